@@ -1,0 +1,184 @@
+//! Command-line arguments as plain values (the first of the two stages; commands validate).
+
+use std::path::PathBuf;
+
+use clap::{Args, Parser, Subcommand, ValueEnum};
+
+/// Exact event-driven molecular dynamics of hard discs.
+#[derive(Debug, Parser)]
+#[command(name = "edmd", version, about)]
+pub struct Cli {
+    /// What to do.
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+/// The subcommands.
+#[derive(Debug, Subcommand)]
+pub enum Command {
+    /// Simulate a data file (Princeton or course format) up to a time and write the final state.
+    Run(RunArgs),
+    /// Time the event loop on a melted lattice fluid; prints one JSON line.
+    Bench(BenchArgs),
+}
+
+/// Input file format.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum FormatArg {
+    /// Detect from the second line (one number: course; nine: Princeton).
+    Auto,
+    /// The "Collisions" course format: N, R, Lx Ly, then x y u v per disc.
+    Course,
+    /// The Princeton format: N, then rx ry vx vy radius mass r g b per disc.
+    Princeton,
+}
+
+/// Column order of the Princeton format.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum ColumnsArg {
+    /// `radius mass`, as in the published data files.
+    RadiusMass,
+    /// `mass radius`, as in the assignment's prose.
+    MassRadius,
+}
+
+/// Collision rule.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum RuleArg {
+    /// Impulse along the line of centres (any masses).
+    Elastic,
+    /// The two discs exchange velocities (course rule; equal masses).
+    Swap,
+}
+
+/// Boundary kind.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum BoundaryArg {
+    /// Periodic in both directions.
+    Periodic,
+    /// Reflecting walls.
+    Walls,
+}
+
+/// `edmd run`.
+#[derive(Debug, Args)]
+pub struct RunArgs {
+    /// Input file (`-` for standard input).
+    pub file: String,
+    /// End time of the simulation.
+    #[arg(long, value_name = "T", value_parser = parse_time)]
+    pub until: f64,
+    /// Write the final state here, in the input's format (`-` for standard output).
+    #[arg(long, short, value_name = "OUT")]
+    pub output: Option<String>,
+    /// Input format.
+    #[arg(long, value_enum, default_value_t = FormatArg::Auto)]
+    pub format: FormatArg,
+    /// Column order of radius and mass in the Princeton format.
+    #[arg(long, value_enum, default_value_t = ColumnsArg::RadiusMass)]
+    pub columns: ColumnsArg,
+    /// Collision rule.
+    #[arg(long, value_enum, default_value_t = RuleArg::Elastic)]
+    pub rule: RuleArg,
+    /// Run a file with overlapping discs or discs outside the box: discs outside are moved in to
+    /// touch the wall, overlapping pairs that approach collide at once, separating ones pass
+    /// freely until apart.
+    #[arg(long)]
+    pub allow_overlaps: bool,
+    /// Write frames to this extended XYZ file (OVITO, ASE).
+    #[arg(long, value_name = "FILE.xyz", requires = "every")]
+    pub trajectory: Option<PathBuf>,
+    /// Interval between trajectory frames.
+    #[arg(long, value_name = "DT", value_parser = parse_positive, requires = "trajectory")]
+    pub every: Option<f64>,
+    /// Print the summary as one JSON object on standard output.
+    #[arg(long)]
+    pub json: bool,
+    /// Check invariants at the end (no overlap, every disc in the box) and fail if broken.
+    #[arg(long)]
+    pub check: bool,
+}
+
+/// `edmd bench`.
+#[derive(Debug, Args)]
+pub struct BenchArgs {
+    /// Number of discs.
+    #[arg(long, value_parser = parse_count)]
+    pub n: usize,
+    /// Packing fraction (area fraction) of the fluid.
+    #[arg(long, value_parser = parse_positive)]
+    pub packing: f64,
+    /// Boundary conditions.
+    #[arg(long, value_enum, default_value_t = BoundaryArg::Periodic)]
+    pub boundary: BoundaryArg,
+    /// Disc-disc collisions per disc run to melt the lattice before timing.
+    #[arg(long, default_value_t = 20)]
+    pub melt: u64,
+    /// Disc-disc collisions per disc to time.
+    #[arg(long, default_value_t = 50)]
+    pub collisions: u64,
+    /// Random seed for the velocities.
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+}
+
+fn parse_number(s: &str) -> Result<f64, String> {
+    let x: f64 = s.trim().parse().map_err(|_| format!("'{s}' is not a number"))?;
+    if !x.is_finite() {
+        return Err(format!("'{s}' is not a finite number"));
+    }
+    Ok(x)
+}
+
+/// A time `>= 0`.
+pub fn parse_time(s: &str) -> Result<f64, String> {
+    let x = parse_number(s)?;
+    if x < 0.0 {
+        return Err(format!("the end time must be >= 0, found {s}"));
+    }
+    Ok(x)
+}
+
+/// A number `> 0`.
+pub fn parse_positive(s: &str) -> Result<f64, String> {
+    let x = parse_number(s)?;
+    if x <= 0.0 {
+        return Err(format!("must be > 0, found {s}"));
+    }
+    Ok(x)
+}
+
+/// A count `>= 1`.
+pub fn parse_count(s: &str) -> Result<usize, String> {
+    match s.trim().parse::<usize>() {
+        Ok(n) if n >= 1 => Ok(n),
+        _ => Err(format!("must be a whole number >= 1, found '{s}'")),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn time_flags() {
+        assert_eq!(parse_time("20"), Ok(20.0));
+        assert_eq!(parse_time("0"), Ok(0.0));
+        assert!(parse_time("-1").unwrap_err().contains(">= 0"));
+        assert!(parse_time("nan").unwrap_err().contains("finite"));
+        assert!(parse_time("inf").unwrap_err().contains("finite"));
+        assert!(parse_time("abc").unwrap_err().contains("not a number"));
+        assert!(parse_positive("0").is_err());
+        assert!(parse_count("0").is_err());
+        assert!(parse_count("-5").is_err());
+        assert_eq!(parse_count("10000"), Ok(10000));
+    }
+
+    #[test]
+    fn run_requires_until_and_pairs_trajectory_with_every() {
+        assert!(Cli::try_parse_from(["edmd", "run", "f.txt"]).is_err());
+        assert!(Cli::try_parse_from(["edmd", "run", "f.txt", "--until", "1", "--trajectory", "t.xyz"]).is_err());
+        assert!(Cli::try_parse_from(["edmd", "run", "f.txt", "--until", "1", "--trajectory", "t.xyz", "--every", "0.1"]).is_ok());
+        assert!(Cli::try_parse_from(["edmd", "run", "f.txt", "--until", "1", "--rule", "bogus"]).is_err());
+    }
+}

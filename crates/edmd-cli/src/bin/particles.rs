@@ -1,0 +1,14 @@
+//! `particles FILE T`: the "Collisions" course program.
+
+use std::process::ExitCode;
+
+use edmd_cli::commands::particles::{run, ParticlesArgs};
+use edmd_cli::{exit_with, parse_args};
+
+fn main() -> ExitCode {
+    let args: ParticlesArgs = match parse_args("particles") {
+        Ok(a) => a,
+        Err(code) => return code,
+    };
+    exit_with("particles", run(&args, &mut std::io::stdout().lock()))
+}

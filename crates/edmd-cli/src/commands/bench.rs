@@ -1,0 +1,94 @@
+//! `edmd bench`: the event loop's speed on a melted lattice fluid, as one JSON line.
+
+use std::time::Instant;
+
+use anyhow::Result;
+use edmd_core::setup::lattice_fluid;
+use edmd_core::{Boundary, Options, Simulation};
+use serde::Serialize;
+
+use crate::args::{BenchArgs, BoundaryArg};
+use crate::user_error;
+
+/// The JSON line.
+#[derive(Debug, Serialize)]
+pub struct BenchResult {
+    /// Number of discs.
+    pub n: usize,
+    /// Packing fraction.
+    pub packing: f64,
+    /// `periodic` or `walls`.
+    pub boundary: &'static str,
+    /// Disc-disc collisions timed.
+    pub collisions: u64,
+    /// All events timed (collisions, wall bounces, cell crossings).
+    pub events: u64,
+    /// Wall-clock seconds of the timed event loop.
+    pub seconds: f64,
+    /// Disc-disc collisions per second.
+    pub collisions_per_second: f64,
+    /// Cells per axis.
+    pub grid: [u32; 2],
+    /// Bytes held by the engine's arrays, per disc.
+    pub engine_bytes_per_disc: f64,
+    /// Peak resident memory of the process (VmHWM), bytes per disc.
+    pub peak_rss_bytes_per_disc: Option<f64>,
+    /// Relative kinetic energy change over the whole run.
+    pub relative_energy_change: f64,
+}
+
+/// Runs the benchmark.
+pub fn run(args: &BenchArgs) -> Result<()> {
+    let boundary = match args.boundary {
+        BoundaryArg::Periodic => Boundary::Periodic,
+        BoundaryArg::Walls => Boundary::Walls,
+    };
+    let (discs, sim_box) = match lattice_fluid(args.n, args.packing, boundary, args.seed) {
+        Ok(x) => x,
+        Err(e) => return user_error(format!("bench: {e}")),
+    };
+    let mut sim = Simulation::new(&discs, sim_box, Options::default())?;
+    drop(discs);
+    let e0 = sim.kinetic_energy();
+    let melt = args.melt * args.n as u64;
+    while sim.stats().disc_disc < melt {
+        sim.run_events(1 << 16, &mut ());
+    }
+    let before = sim.stats();
+    let target = before.disc_disc + args.collisions * args.n as u64;
+    let started = Instant::now();
+    while sim.stats().disc_disc < target {
+        sim.run_events(1 << 16, &mut ());
+    }
+    let seconds = started.elapsed().as_secs_f64();
+    let after = sim.stats();
+    let collisions = after.disc_disc - before.disc_disc;
+    let events = (after.disc_disc + after.wall + after.cell_crossing) - (before.disc_disc + before.wall + before.cell_crossing);
+    let g = sim.grid_dims();
+    let result = BenchResult {
+        n: args.n,
+        packing: args.packing,
+        boundary: match boundary {
+            Boundary::Periodic => "periodic",
+            Boundary::Walls => "walls",
+        },
+        collisions,
+        events,
+        seconds,
+        collisions_per_second: collisions as f64 / seconds,
+        grid: [g[0], g[1]],
+        engine_bytes_per_disc: sim.memory_bytes() as f64 / args.n as f64,
+        peak_rss_bytes_per_disc: peak_rss_bytes().map(|b| b as f64 / args.n as f64),
+        relative_energy_change: (sim.kinetic_energy() - e0) / e0,
+    };
+    println!("{}", serde_json::to_string(&result)?);
+    Ok(())
+}
+
+/// VmHWM from /proc/self/status (Linux), in bytes.
+fn peak_rss_bytes() -> Option<u64> {
+    let s = std::fs::read_to_string("/proc/self/status").ok()?;
+    let line = s.lines().find(|l| l.starts_with("VmHWM:"))?;
+    let kb: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    Some(kb * 1024)
+}

@@ -1,0 +1,222 @@
+//! `edmd run FILE --until T`: simulate a data file and write the final state.
+
+use std::io::{IsTerminal, Write};
+use std::path::Path;
+use std::time::Instant;
+
+use anyhow::Result;
+use edmd_core::{CollisionRule, Observer, Options, OverlapPolicy, Simulation, Stats, OVERLAP_TOLERANCE};
+use edmd_io::princeton::ColumnOrder;
+use edmd_io::Format;
+use serde::Serialize;
+
+use crate::args::{ColumnsArg, FormatArg, RuleArg, RunArgs};
+use crate::input::{build, load, read_text};
+use crate::output::AtomicFile;
+use crate::user_error;
+
+/// The run summary (`--json` prints it as one object).
+#[derive(Debug, Serialize)]
+pub struct Summary {
+    /// Input file.
+    pub file: String,
+    /// Input format.
+    pub format: &'static str,
+    /// Number of discs.
+    pub n: usize,
+    /// End time.
+    pub until: f64,
+    /// Disc-disc collisions.
+    pub disc_collisions: u64,
+    /// Wall collisions.
+    pub wall_collisions: u64,
+    /// Cell crossings.
+    pub cell_crossings: u64,
+    /// Stale predictions discarded.
+    pub stale_events: u64,
+    /// Wall-clock seconds spent in the event loop.
+    pub seconds: f64,
+    /// Disc-disc collisions per second of wall-clock time.
+    pub collisions_per_second: f64,
+    /// `(E_end - E_start) / E_start` of the kinetic energy.
+    pub relative_energy_change: f64,
+    /// Discs moved into the box by `--allow-overlaps`.
+    pub discs_moved_into_box: usize,
+    /// Trajectory frames written.
+    pub frames: u64,
+}
+
+/// Runs `edmd run`.
+pub fn run(args: &RunArgs) -> Result<()> {
+    let text = read_text(&args.file)?;
+    let order = match args.columns {
+        ColumnsArg::RadiusMass => ColumnOrder::RadiusMass,
+        ColumnsArg::MassRadius => ColumnOrder::MassRadius,
+    };
+    let format = match args.format {
+        FormatArg::Auto => None,
+        FormatArg::Course => Some(Format::Course),
+        FormatArg::Princeton => Some(Format::Princeton(order)),
+    };
+    let mut sys = load(&args.file, &text, format)?;
+    if let Format::Princeton(_) = sys.format {
+        sys.format = Format::Princeton(order);
+    }
+    let rule = match args.rule {
+        RuleArg::Elastic => CollisionRule::Elastic,
+        RuleArg::Swap => CollisionRule::Swap,
+    };
+    let overlaps = if args.allow_overlaps { OverlapPolicy::Allow } else { OverlapPolicy::Refuse };
+    let mut sim = build(&args.file, &sys, Options { rule, overlaps })?;
+    if let (Some(path), Some(_)) = (&args.output, &args.trajectory) {
+        if Path::new(path) == args.trajectory.as_deref().unwrap() {
+            return user_error(format!("{path}: --output and --trajectory name the same file"));
+        }
+    }
+    // Create outputs before the run so that an unwritable path fails at once, not after it.
+    let mut out_file = match args.output.as_deref() {
+        Some("-") | None => None,
+        Some(p) => Some(AtomicFile::create(Path::new(p))?),
+    };
+    let mut traj = match &args.trajectory {
+        Some(p) => Some(AtomicFile::create(p)?),
+        None => None,
+    };
+
+    let e0 = sim.kinetic_energy();
+    let progress = progress_bar(args.until);
+    let started = Instant::now();
+    let mut frames = 0u64;
+    let mut obs = ();
+    match (&mut traj, args.every) {
+        (Some(t), Some(dt)) => {
+            loop {
+                let time = frames as f64 * dt;
+                if time > args.until {
+                    break;
+                }
+                run_to(&mut sim, time, &progress, &mut obs);
+                edmd_io::xyz::write_frame(t.writer(), &sim.discs(), sim.sim_box(), time)?;
+                frames += 1;
+            }
+            run_to(&mut sim, args.until, &progress, &mut obs);
+        }
+        _ => run_to(&mut sim, args.until, &progress, &mut obs),
+    }
+    let seconds = started.elapsed().as_secs_f64();
+    if let Some(pb) = progress {
+        pb.finish_and_clear();
+    }
+    if args.check {
+        check(&sim)?;
+    }
+
+    let discs = sim.discs();
+    let stats: Stats = sim.stats();
+    let e1 = sim.kinetic_energy();
+    let summary = Summary {
+        file: args.file.clone(),
+        format: match sys.format {
+            Format::Course => "course",
+            Format::Princeton(_) => "princeton",
+        },
+        n: sim.len(),
+        until: args.until,
+        disc_collisions: stats.disc_disc,
+        wall_collisions: stats.wall,
+        cell_crossings: stats.cell_crossing,
+        stale_events: stats.stale,
+        seconds,
+        collisions_per_second: if seconds > 0.0 { stats.disc_disc as f64 / seconds } else { 0.0 },
+        relative_energy_change: if e0 > 0.0 { (e1 - e0) / e0 } else { 0.0 },
+        discs_moved_into_box: sim.adjusted_discs(),
+        frames,
+    };
+
+    if let Some(t) = traj {
+        t.commit()?;
+    }
+    let to_stdout = args.output.as_deref() == Some("-");
+    if let Some(mut f) = out_file.take() {
+        edmd_io::write(f.writer(), &discs, sim.sim_box(), sys.format)?;
+        f.commit()?;
+    } else if to_stdout {
+        let mut out = std::io::stdout().lock();
+        edmd_io::write(&mut out, &discs, sim.sim_box(), sys.format)?;
+        out.flush()?;
+    }
+    let text = if args.json { serde_json::to_string(&summary)? } else { human(&summary) };
+    if to_stdout {
+        eprintln!("{text}");
+    } else {
+        println!("{text}");
+    }
+    Ok(())
+}
+
+fn human(s: &Summary) -> String {
+    let mut t = format!(
+        "{}: {} discs ({} format) simulated to t = {}\nevents: {} disc-disc, {} wall, {} cell crossings ({} stale predictions discarded)\nspeed: {:.3e} collisions per second ({:.3} s in the event loop)\nenergy: relative change {:.3e}",
+        s.file,
+        s.n,
+        s.format,
+        s.until,
+        s.disc_collisions,
+        s.wall_collisions,
+        s.cell_crossings,
+        s.stale_events,
+        s.collisions_per_second,
+        s.seconds,
+        s.relative_energy_change
+    );
+    if s.discs_moved_into_box > 0 {
+        t += &format!("\nmoved into the box: {} disc(s)", s.discs_moved_into_box);
+    }
+    if s.frames > 0 {
+        t += &format!("\ntrajectory: {} frames", s.frames);
+    }
+    t
+}
+
+fn run_to<O: Observer>(sim: &mut Simulation, t: f64, progress: &Option<indicatif::ProgressBar>, obs: &mut O) {
+    match progress {
+        None => sim.run_until(t, obs),
+        Some(pb) => {
+            // Chunks of simulated time; positions are computed on demand, so stopping at the
+            // chunk ends does not change the trajectory.
+            let total = pb.length().unwrap_or(1) as f64;
+            let until = pb.message().parse::<f64>().unwrap_or(t);
+            while sim.time() < t {
+                let next = (sim.time() + until / total).min(t);
+                sim.run_until(next, obs);
+                pb.set_position((sim.time() / until * total) as u64);
+            }
+        }
+    }
+}
+
+fn progress_bar(until: f64) -> Option<indicatif::ProgressBar> {
+    if !std::io::stderr().is_terminal() || until <= 0.0 {
+        return None;
+    }
+    let pb = indicatif::ProgressBar::new(1000);
+    pb.set_message(format!("{until:?}"));
+    pb.set_style(
+        indicatif::ProgressStyle::with_template("{bar:40} {percent:>3}% of simulated time, {elapsed} elapsed, eta {eta}")
+            .expect("valid template"),
+    );
+    Some(pb)
+}
+
+/// Fails if any disc overlaps another or leaves the box.
+pub fn check(sim: &Simulation) -> Result<()> {
+    let o = sim.overlaps(OVERLAP_TOLERANCE);
+    if let Some((i, j, ov)) = o.first {
+        anyhow::bail!("check failed: discs {i} and {j} overlap by {ov:.3e} ({} pairs)", o.count);
+    }
+    let out = sim.discs_outside(OVERLAP_TOLERANCE);
+    if let Some(i) = out.first() {
+        anyhow::bail!("check failed: disc {i} is outside the box ({} discs)", out.len());
+    }
+    Ok(())
+}

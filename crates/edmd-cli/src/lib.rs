@@ -1,0 +1,76 @@
+//! # edmd-cli: the `edmd` and `particles` programs
+//!
+//! Arguments are parsed by clap into plain values ([`args`]), then each command builds a
+//! validated configuration and runs. Errors in what the user gave (files, options) are
+//! [`UserError`]s: one line on standard error and exit status 2. Nothing is written before
+//! everything has been validated, and output files appear whole or not at all.
+
+pub mod args;
+pub mod commands;
+pub mod input;
+pub mod output;
+
+use std::fmt;
+use std::process::ExitCode;
+
+/// A problem with what the user supplied: reported in one line, exit status 2.
+#[derive(Debug)]
+pub struct UserError(pub String);
+
+impl fmt::Display for UserError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(&self.0)
+    }
+}
+
+impl std::error::Error for UserError {}
+
+/// Shorthand for returning a [`UserError`].
+pub fn user_error<T>(msg: impl Into<String>) -> anyhow::Result<T> {
+    Err(UserError(msg.into()).into())
+}
+
+/// Runs a command body and turns its outcome into an exit status, printing errors in one line.
+pub fn exit_with(program: &str, result: anyhow::Result<()>) -> ExitCode {
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            let user = e.downcast_ref::<UserError>().is_some();
+            let msg = format!("{e:#}").replace('\n', " ");
+            eprintln!("{program}: error: {msg}");
+            ExitCode::from(if user { 2 } else { 1 })
+        }
+    }
+}
+
+/// Parses command-line arguments with clap; usage errors become one line and exit status 2,
+/// `--help` and `--version` print as usual and exit 0.
+pub fn parse_args<P: clap::Parser>(program: &str) -> Result<P, ExitCode> {
+    match P::try_parse() {
+        Ok(p) => Ok(p),
+        Err(e) => {
+            use clap::error::ErrorKind;
+            if matches!(e.kind(), ErrorKind::DisplayHelp | ErrorKind::DisplayVersion | ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand) {
+                let _ = e.print();
+                return Err(if e.kind() == ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand {
+                    ExitCode::from(2)
+                } else {
+                    ExitCode::SUCCESS
+                });
+            }
+            eprintln!("{program}: error: {} (try '{program} --help')", one_line(&e.render().to_string()));
+            Err(ExitCode::from(2))
+        }
+    }
+}
+
+/// clap's message without the usage block, folded into one line.
+fn one_line(rendered: &str) -> String {
+    let body: Vec<&str> = rendered
+        .lines()
+        .take_while(|l| !l.starts_with("Usage:") && !l.starts_with("For more information"))
+        .map(str::trim)
+        .filter(|l| !l.is_empty())
+        .collect();
+    body.join(" ").trim_start_matches("error: ").to_string()
+}

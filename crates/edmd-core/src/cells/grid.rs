@@ -1,0 +1,328 @@
+//! A uniform grid of cells no narrower than the largest disc diameter, with one intrusive
+//! doubly linked list of discs per cell.
+//!
+//! Two discs more than one cell apart along any axis cannot touch, so a disc's collision
+//! partners before its next cell crossing are all in the `3^DIM` cells around its own. Cell
+//! crossings are events of their own (see [`crate::predict::interval`]). On a periodic axis the
+//! neighbour cells wrap around, carrying the image shift `±L` with them; at least 3 cells are
+//! required there so that the wrapped neighbours are distinct.
+
+use crate::error::Error;
+use crate::math::{Vector, DIM};
+use crate::predict::{interval_exit, Side};
+use crate::state::SimBox;
+
+/// "No disc": the end of a cell's list.
+pub const NONE: u32 = u32::MAX;
+
+/// Cell coordinates of one cell.
+pub type CellCoord = [u32; DIM];
+
+/// The grid and the discs' places in it.
+#[derive(Clone, Debug)]
+pub struct CellGrid {
+    dims: [u32; DIM],
+    width: [f64; DIM],
+    lengths: [f64; DIM],
+    periodic: [bool; DIM],
+    stride: [usize; DIM],
+    offsets: Vec<[i32; DIM]>,
+    head: Vec<u32>,
+    next: Vec<u32>,
+    prev: Vec<u32>,
+    cell: Vec<CellCoord>,
+}
+
+impl CellGrid {
+    /// A grid for `n` discs whose largest diameter is `max_diameter`.
+    ///
+    /// Cells are at least `max_diameter` wide; in a sparse system they are made wider, so that
+    /// there are about two cells per disc at most and memory stays O(N).
+    pub fn new(sim_box: &SimBox, n: usize, max_diameter: f64) -> Result<Self, Error> {
+        let volume = sim_box.volume();
+        let sparse_width = (volume / (2.0 * n.max(1) as f64)).powf(1.0 / DIM as f64);
+        let target = max_diameter.max(sparse_width);
+        let mut dims = [1u32; DIM];
+        let mut width = [0.0; DIM];
+        let mut periodic = [false; DIM];
+        let mut stride = [0usize; DIM];
+        let mut total = 1usize;
+        for a in 0..DIM {
+            let l = sim_box.lengths[a];
+            periodic[a] = sim_box.is_periodic(a);
+            let max_cells = ((l / max_diameter).floor() as u64).clamp(1, u32::MAX as u64 / 4);
+            let mut d = ((l / target).floor() as u64).clamp(1, max_cells);
+            if periodic[a] {
+                if max_cells < 3 {
+                    return Err(Error::PeriodicBoxTooSmall { axis: a, length: l, min: 3.0 * max_diameter });
+                }
+                d = d.max(3);
+            }
+            dims[a] = d as u32;
+            width[a] = l / d as f64;
+            stride[a] = total;
+            total = total.checked_mul(d as usize).ok_or_else(|| Error::Invalid("too many cells".into()))?;
+        }
+        let offsets = neighbour_offsets();
+        Ok(CellGrid {
+            dims,
+            width,
+            lengths: sim_box.lengths,
+            periodic,
+            stride,
+            offsets,
+            head: vec![NONE; total],
+            next: vec![NONE; n],
+            prev: vec![NONE; n],
+            cell: vec![[0; DIM]; n],
+        })
+    }
+
+    /// Number of cells per axis.
+    pub fn dims(&self) -> [u32; DIM] {
+        self.dims
+    }
+
+    /// Cell coordinates of a position (clamped into the grid).
+    pub fn coord_of(&self, p: Vector) -> CellCoord {
+        let mut c = [0u32; DIM];
+        for a in 0..DIM {
+            let k = (p[a] / self.width[a]).floor();
+            c[a] = if k < 0.0 { 0 } else { (k as u64).min(self.dims[a] as u64 - 1) as u32 };
+        }
+        c
+    }
+
+    #[inline(always)]
+    fn linear(&self, c: CellCoord) -> usize {
+        let mut k = 0;
+        for a in 0..DIM {
+            k += c[a] as usize * self.stride[a];
+        }
+        k
+    }
+
+    /// The cell disc `i` is filed in.
+    #[inline(always)]
+    pub fn cell_of(&self, i: usize) -> CellCoord {
+        self.cell[i]
+    }
+
+    /// Files disc `i` in cell `c`.
+    pub fn insert(&mut self, i: usize, c: CellCoord) {
+        let k = self.linear(c);
+        let h = self.head[k];
+        self.next[i] = h;
+        self.prev[i] = NONE;
+        if h != NONE {
+            self.prev[h as usize] = i as u32;
+        }
+        self.head[k] = i as u32;
+        self.cell[i] = c;
+    }
+
+    /// Takes disc `i` out of its cell.
+    pub fn remove(&mut self, i: usize) {
+        let (p, n) = (self.prev[i], self.next[i]);
+        if p != NONE {
+            self.next[p as usize] = n;
+        } else {
+            let k = self.linear(self.cell[i]);
+            self.head[k] = n;
+        }
+        if n != NONE {
+            self.prev[n as usize] = p;
+        }
+    }
+
+    /// Empties every cell.
+    pub fn clear(&mut self) {
+        self.head.fill(NONE);
+    }
+
+    /// Time until disc `i` (at `p`, moving at `v`) leaves its cell, with the axis and side.
+    ///
+    /// On a walled axis the outermost cells have no outer crossing: the wall comes first.
+    #[inline(always)]
+    pub fn exit_time(&self, i: usize, p: Vector, v: Vector) -> Option<(f64, usize, Side)> {
+        let c = self.cell[i];
+        let mut best: Option<(f64, usize, Side)> = None;
+        for a in 0..DIM {
+            let d = self.dims[a];
+            if d == 1 && !self.periodic[a] {
+                continue;
+            }
+            let lo = c[a] as f64 * self.width[a];
+            let hi = if c[a] + 1 == d { self.lengths[a] } else { (c[a] + 1) as f64 * self.width[a] };
+            if let Some((dt, side)) = interval_exit(p[a], v[a], lo, hi) {
+                let leaves_box = match side {
+                    Side::Low => c[a] == 0,
+                    Side::High => c[a] + 1 == d,
+                };
+                if leaves_box && !self.periodic[a] {
+                    continue;
+                }
+                if best.is_none_or(|(t, _, _)| dt < t) {
+                    best = Some((dt, a, side));
+                }
+            }
+        }
+        best
+    }
+
+    /// Moves disc `i` one cell along `axis` towards `side`. Returns the image shift (`-1`, `0` or
+    /// `+1` box lengths) that a periodic wrap applies to the disc's coordinate on that axis.
+    pub fn cross(&mut self, i: usize, axis: usize, side: Side) -> i32 {
+        let mut c = self.cell[i];
+        let d = self.dims[axis];
+        let mut wrap = 0;
+        match side {
+            Side::High => {
+                if c[axis] + 1 == d {
+                    c[axis] = 0;
+                    wrap = -1;
+                } else {
+                    c[axis] += 1;
+                }
+            }
+            Side::Low => {
+                if c[axis] == 0 {
+                    c[axis] = d - 1;
+                    wrap = 1;
+                } else {
+                    c[axis] -= 1;
+                }
+            }
+        }
+        self.remove(i);
+        self.insert(i, c);
+        wrap
+    }
+
+    /// Calls `f(j, shift)` for every disc `j` in the cells around `c` (including `c` itself),
+    /// where `shift` is the periodic image offset to add to `j`'s position.
+    #[inline(always)]
+    pub fn for_each_near(&self, c: CellCoord, mut f: impl FnMut(usize, Vector)) {
+        'cells: for off in &self.offsets {
+            let mut k = 0usize;
+            let mut shift = Vector::ZERO;
+            for a in 0..DIM {
+                let d = self.dims[a] as i64;
+                let mut x = c[a] as i64 + off[a] as i64;
+                if x < 0 || x >= d {
+                    if !self.periodic[a] {
+                        continue 'cells;
+                    }
+                    if x < 0 {
+                        x += d;
+                        shift[a] = -self.lengths[a];
+                    } else {
+                        x -= d;
+                        shift[a] = self.lengths[a];
+                    }
+                }
+                k += x as usize * self.stride[a];
+            }
+            let mut j = self.head[k];
+            while j != NONE {
+                f(j as usize, shift);
+                j = self.next[j as usize];
+            }
+        }
+    }
+
+    /// Bytes held by the grid.
+    pub fn memory_bytes(&self) -> usize {
+        self.head.capacity() * 4
+            + (self.next.capacity() + self.prev.capacity()) * 4
+            + self.cell.capacity() * std::mem::size_of::<CellCoord>()
+    }
+}
+
+/// The `3^DIM` offsets `{-1, 0, 1}^DIM`.
+fn neighbour_offsets() -> Vec<[i32; DIM]> {
+    let mut out = Vec::new();
+    for k in 0..3usize.pow(DIM as u32) {
+        let mut o = [0i32; DIM];
+        let mut r = k;
+        for slot in o.iter_mut() {
+            *slot = (r % 3) as i32 - 1;
+            r /= 3;
+        }
+        out.push(o);
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn periodic_neighbours_wrap_with_shift() {
+        let b = SimBox::periodic([3.0, 3.0]);
+        let mut g = CellGrid::new(&b, 100, 1.0).unwrap();
+        assert_eq!(g.dims(), [3, 3]);
+        g.insert(0, [0, 0]);
+        g.insert(1, [2, 0]);
+        let mut seen = vec![];
+        g.for_each_near([0, 0], |j, s| seen.push((j, s)));
+        seen.sort_by(|a, b| a.0.cmp(&b.0));
+        assert_eq!(seen, vec![(0, Vector::ZERO), (1, Vector::new([-3.0, 0.0]))]);
+    }
+
+    #[test]
+    fn walled_neighbours_do_not_wrap() {
+        let b = SimBox::walls([3.0, 3.0]);
+        let mut g = CellGrid::new(&b, 100, 1.0).unwrap();
+        g.insert(0, [0, 0]);
+        g.insert(1, [2, 0]);
+        let mut seen = vec![];
+        g.for_each_near([0, 0], |j, _| seen.push(j));
+        assert_eq!(seen, vec![0]);
+    }
+
+    #[test]
+    fn crossing_moves_between_lists() {
+        let b = SimBox::periodic([4.0, 4.0]);
+        let mut g = CellGrid::new(&b, 100, 1.0).unwrap();
+        g.insert(0, [3, 1]);
+        g.insert(1, [3, 1]);
+        g.insert(2, [3, 1]);
+        assert_eq!(g.cross(1, 0, Side::High), -1);
+        assert_eq!(g.cell_of(1), [0, 1]);
+        let mut seen = vec![];
+        g.for_each_near([3, 1], |j, _| seen.push(j));
+        seen.sort();
+        assert_eq!(seen, vec![0, 1, 2]);
+        let mut own = vec![];
+        g.for_each_near([1, 3], |j, _| own.push(j));
+        assert!(own.is_empty());
+    }
+
+    #[test]
+    fn exit_time_ignores_outer_walls() {
+        let b = SimBox::walls([4.0, 4.0]);
+        let mut g = CellGrid::new(&b, 100, 1.0).unwrap();
+        g.insert(0, [3, 0]);
+        // Moving +x in the last column: no crossing (wall first); moving +y: crosses at y = 1.
+        let e = g.exit_time(0, Vector::new([3.5, 0.5]), Vector::new([1.0, 0.5]));
+        assert_eq!(e, Some((1.0, 1, Side::High)));
+    }
+
+    #[test]
+    fn sparse_systems_get_wider_cells() {
+        // 2 discs in a 100 x 100 box: 2 cells per disc (4), not 10^4.
+        let g = CellGrid::new(&SimBox::walls([100.0, 100.0]), 2, 1.0).unwrap();
+        assert_eq!(g.dims(), [2, 2]);
+        // Periodic axes keep at least 3 cells.
+        let g = CellGrid::new(&SimBox::periodic([100.0, 100.0]), 1, 1.0).unwrap();
+        assert_eq!(g.dims(), [3, 3]);
+    }
+
+    #[test]
+    fn small_periodic_box_is_refused() {
+        let b = SimBox::periodic([2.5, 10.0]);
+        assert!(matches!(CellGrid::new(&b, 4, 1.0), Err(Error::PeriodicBoxTooSmall { axis: 0, .. })));
+    }
+}

@@ -1,0 +1,71 @@
+//! The engine's error type. Constructors validate, so a [`crate::Simulation`] that exists is
+//! valid and its event loop cannot fail.
+
+use thiserror::Error;
+
+/// Why a system or an option was refused. Disc indices are 0-based positions in the input.
+#[derive(Debug, Clone, PartialEq, Error)]
+#[non_exhaustive]
+pub enum Error {
+    /// A box edge length is not a finite positive number.
+    #[error("box length {length} on axis {axis} is not a finite positive number")]
+    BadBox {
+        /// Axis.
+        axis: usize,
+        /// The offending length.
+        length: f64,
+    },
+    /// A disc property is invalid (non-finite number, radius or mass not positive).
+    #[error("disc {index}: {what}")]
+    BadDisc {
+        /// Disc index.
+        index: usize,
+        /// What is wrong.
+        what: String,
+    },
+    /// Discs lie (partly) outside a walled box.
+    #[error("disc {first} is outside the box ({count} disc(s) in all)")]
+    OutsideBox {
+        /// First offending disc.
+        first: usize,
+        /// How many discs are outside.
+        count: usize,
+    },
+    /// Pairs of discs overlap by more than the tolerance.
+    #[error(
+        "discs {i} and {j} overlap by {overlap:.3e} (relative to contact distance); {count} overlapping pair(s) in all"
+    )]
+    Overlap {
+        /// First disc of the first offending pair (lower index).
+        i: usize,
+        /// Second disc of that pair.
+        j: usize,
+        /// `(sigma - d) / sigma` for that pair.
+        overlap: f64,
+        /// Number of overlapping pairs.
+        count: usize,
+    },
+    /// A periodic axis is too short for the cell grid's minimum-image convention.
+    #[error("periodic box length {length} on axis {axis} is less than 3 disc diameters ({min})")]
+    PeriodicBoxTooSmall {
+        /// Axis.
+        axis: usize,
+        /// Box length on it.
+        length: f64,
+        /// The minimum allowed.
+        min: f64,
+    },
+    /// The swap rule needs equal masses to conserve momentum and energy.
+    #[error("the swap rule needs equal masses: disc {index} has mass {mass}, disc 0 has {mass0}")]
+    SwapNeedsEqualMasses {
+        /// First disc whose mass differs from disc 0's.
+        index: usize,
+        /// Its mass.
+        mass: f64,
+        /// Disc 0's mass.
+        mass0: f64,
+    },
+    /// A requested value is out of range (generators, options).
+    #[error("{0}")]
+    Invalid(String),
+}

@@ -1,0 +1,65 @@
+//! Events: what the scheduler keeps per disc, and what observers are shown.
+
+use crate::math::Vector;
+pub use crate::predict::Side;
+
+/// A flat wall of the box: the axis it is perpendicular to and which end of that axis.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct Wall {
+    /// Axis the wall is perpendicular to (0 = x, 1 = y).
+    pub axis: usize,
+    /// `Low` is the wall at 0, `High` the wall at L.
+    pub side: Side,
+}
+
+/// A processed event, as observers see it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum EventKind {
+    /// Discs `i` and `j` collided.
+    DiscDisc {
+        /// The disc whose schedule held the event.
+        i: usize,
+        /// Its partner.
+        j: usize,
+    },
+    /// Disc `i` bounced off a wall.
+    Wall {
+        /// The disc.
+        i: usize,
+        /// The wall.
+        wall: Wall,
+    },
+    /// Disc `i` moved into a neighbouring cell (bookkeeping; no velocity change).
+    CellCrossing {
+        /// The disc.
+        i: usize,
+        /// Axis crossed.
+        axis: usize,
+        /// Direction.
+        side: Side,
+    },
+}
+
+/// One processed event. The simulation's state has already been updated when observers see it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct EventRecord {
+    /// Simulation time of the event.
+    pub time: f64,
+    /// What happened.
+    pub kind: EventKind,
+    /// Impulse received by disc `i` (for a pair, `j` received its negative); zero for crossings.
+    pub impulse: Vector,
+}
+
+/// The one event a disc has scheduled (the engine's internal form of [`EventKind`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) enum Pending {
+    /// Nothing ahead (time `+inf`).
+    Nothing,
+    /// Collision with `partner`, valid while the partner's collision counter is still `seen`.
+    Disc { partner: u32, seen: u32 },
+    /// Wall collision.
+    Wall { axis: u8, side: Side },
+    /// Cell crossing.
+    Cell { axis: u8, side: Side },
+}

@@ -1,0 +1,78 @@
+//! Observers: callers see every processed event without the engine knowing about them.
+//!
+//! The `particles` counters, the measurements and the viewer all hang off this trait. The
+//! engine is generic over it, so an observer costs nothing when it does nothing.
+
+use crate::events::{EventKind, EventRecord};
+use crate::simulation::Simulation;
+
+/// Sees every processed event, after the state has been updated.
+pub trait Observer {
+    /// Called once per processed event.
+    fn on_event(&mut self, event: &EventRecord, sim: &Simulation);
+}
+
+impl Observer for () {
+    #[inline(always)]
+    fn on_event(&mut self, _: &EventRecord, _: &Simulation) {}
+}
+
+impl<O: Observer + ?Sized> Observer for &mut O {
+    #[inline(always)]
+    fn on_event(&mut self, e: &EventRecord, s: &Simulation) {
+        (**self).on_event(e, s)
+    }
+}
+
+impl<O: Observer + ?Sized> Observer for Box<O> {
+    #[inline(always)]
+    fn on_event(&mut self, e: &EventRecord, s: &Simulation) {
+        (**self).on_event(e, s)
+    }
+}
+
+impl<A: Observer, B: Observer> Observer for (A, B) {
+    #[inline(always)]
+    fn on_event(&mut self, e: &EventRecord, s: &Simulation) {
+        self.0.on_event(e, s);
+        self.1.on_event(e, s);
+    }
+}
+
+impl<O: Observer> Observer for Vec<O> {
+    fn on_event(&mut self, e: &EventRecord, s: &Simulation) {
+        for o in self {
+            o.on_event(e, s);
+        }
+    }
+}
+
+/// Counts wall and disc collisions per disc (the course assignment's `cwall` and `cpart`).
+#[derive(Clone, Debug, Default)]
+pub struct CollisionCounter {
+    /// Wall collisions of each disc.
+    pub wall: Vec<u64>,
+    /// Disc-disc collisions of each disc.
+    pub disc: Vec<u64>,
+}
+
+impl CollisionCounter {
+    /// Counters for `n` discs, all zero.
+    pub fn new(n: usize) -> Self {
+        CollisionCounter { wall: vec![0; n], disc: vec![0; n] }
+    }
+}
+
+impl Observer for CollisionCounter {
+    #[inline]
+    fn on_event(&mut self, e: &EventRecord, _: &Simulation) {
+        match e.kind {
+            EventKind::DiscDisc { i, j } => {
+                self.disc[i] += 1;
+                self.disc[j] += 1;
+            }
+            EventKind::Wall { i, .. } => self.wall[i] += 1,
+            EventKind::CellCrossing { .. } => {}
+        }
+    }
+}

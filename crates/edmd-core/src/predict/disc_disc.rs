@@ -1,0 +1,80 @@
+//! Disc-disc contact time.
+//!
+//! Two discs at relative position `dr = r_j - r_i` with relative velocity `dv = v_j - v_i`
+//! touch when `|dr + dv t| = sigma`, i.e. `a t^2 + 2 b t + c = 0` with `a = dv.dv`,
+//! `b = dr.dv`, `c = dr.dr - sigma^2`. Only approaching pairs (`b < 0`) can collide; the earlier
+//! root is taken in the cancellation-free form `t = c / (-b + sqrt(b^2 - a c))`
+//! (the textbook `(-b - sqrt(d)) / a` loses all its digits for grazing or slow pairs).
+
+use crate::math::Vector;
+
+/// Time until the two discs touch, or `None` if they never do.
+///
+/// A pair already overlapping (by rounding, `c <= 0`) and approaching collides at once
+/// (`Some(0.0)`); a pair that is separating or at rest relative to each other never collides,
+/// which is what stops a pair that has just collided from colliding again.
+#[inline(always)]
+pub fn time_to_contact(dr: Vector, dv: Vector, sigma: f64) -> Option<f64> {
+    let b = dr.dot(dv);
+    if b >= 0.0 {
+        return None;
+    }
+    let c = dr.norm2() - sigma * sigma;
+    if c <= 0.0 {
+        return Some(0.0);
+    }
+    let a = dv.norm2();
+    let d = b * b - a * c;
+    if d < 0.0 {
+        return None;
+    }
+    Some(c / (-b + d.sqrt()))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn v(x: f64, y: f64) -> Vector {
+        Vector::new([x, y])
+    }
+
+    #[test]
+    fn head_on_pair_meets_when_gap_closes() {
+        // Centres 10 apart, sigma 2, closing at speed 2: gap 8 closes at t = 4.
+        assert_eq!(time_to_contact(v(10.0, 0.0), v(-2.0, 0.0), 2.0), Some(4.0));
+    }
+
+    #[test]
+    fn oblique_pair_matches_hand_solution() {
+        // dr = (4, 1), dv = (-1, 0), sigma = sqrt(2): |(4 - t, 1)|^2 = 2 -> (4 - t)^2 = 1 -> t = 3.
+        let t = time_to_contact(v(4.0, 1.0), v(-1.0, 0.0), 2f64.sqrt()).unwrap();
+        assert!((t - 3.0).abs() < 1e-15, "{t}");
+    }
+
+    #[test]
+    fn misses_and_separations_are_none() {
+        // Passing at impact parameter 3 > sigma = 2.
+        assert_eq!(time_to_contact(v(10.0, 3.0), v(-1.0, 0.0), 2.0), None);
+        // Moving apart.
+        assert_eq!(time_to_contact(v(10.0, 0.0), v(1.0, 0.0), 2.0), None);
+        // At rest relative to each other.
+        assert_eq!(time_to_contact(v(10.0, 0.0), v(0.0, 0.0), 2.0), None);
+        // Exactly grazing (impact parameter = sigma) is a tangent touch: d = 0, t = 10 - 0.
+        assert_eq!(time_to_contact(v(10.0, 2.0), v(-1.0, 0.0), 2.0), Some(10.0));
+    }
+
+    #[test]
+    fn overlapping_and_approaching_collides_now() {
+        assert_eq!(time_to_contact(v(1.9, 0.0), v(-1.0, 0.0), 2.0), Some(0.0));
+        // Overlapping but separating: left alone.
+        assert_eq!(time_to_contact(v(1.9, 0.0), v(1.0, 0.0), 2.0), None);
+    }
+
+    #[test]
+    fn stable_root_keeps_digits_for_slow_pairs() {
+        // dv tiny: the naive formula (-b - sqrt(d))/a cancels; the stable one gives gap/speed.
+        let t = time_to_contact(v(3.0, 0.0), v(-1e-12, 0.0), 2.0).unwrap();
+        assert!((t - 1e12).abs() / 1e12 < 1e-14, "{t}");
+    }
+}

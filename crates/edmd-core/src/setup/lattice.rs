@@ -1,0 +1,128 @@
+//! Discs on a triangular lattice at a chosen packing fraction, with thermal velocities.
+//!
+//! The triangular lattice is the densest packing of equal discs (`pi / (2 sqrt 3) = 0.9069`),
+//! so every fluid density is reachable from it. Melting is the caller's job: run the system for
+//! some collisions per disc.
+
+use rand::{Rng, SeedableRng};
+use rand_distr::StandardNormal;
+use rand_pcg::Pcg64Mcg;
+
+use crate::error::Error;
+use crate::math::{Vector, DIM};
+use crate::state::{Boundary, Disc, SimBox};
+
+/// Close packing fraction of discs, `pi / (2 sqrt 3)`.
+pub const CLOSE_PACKING: f64 = 0.906_899_682_117_108_9;
+
+/// `n` equal discs (diameter 1, mass 1) on a triangular lattice filling a near-square box at
+/// packing fraction `packing`, with Gaussian velocities at `kT = 1`, zero total momentum.
+pub fn lattice_fluid(n: usize, packing: f64, boundary: Boundary, seed: u64) -> Result<(Vec<Disc>, SimBox), Error> {
+    if n == 0 {
+        return Err(Error::Invalid("the number of discs must be at least 1".into()));
+    }
+    if !(packing > 0.0 && packing < CLOSE_PACKING) {
+        return Err(Error::Invalid(format!("packing fraction {packing} is outside (0, {CLOSE_PACKING:.4})")));
+    }
+    let r = 0.5;
+    let h = 3f64.sqrt() / 2.0;
+    let mut rows = ((n as f64 / h).sqrt().ceil() as usize).max(1);
+    if boundary == Boundary::Periodic && rows % 2 == 1 {
+        rows += 1;
+    }
+    let cols = n.div_ceil(rows).max(1);
+    let disc_area = n as f64 * std::f64::consts::PI * r * r;
+    // Box (in lattice spacings a) and the margin to keep discs off the walls.
+    // Box size and first site, in lattice spacings: walls keep half a spacing of clearance.
+    let (wx, wy, x0, y0) = match boundary {
+        Boundary::Periodic => (cols as f64, rows as f64 * h, 0.25, h / 2.0),
+        Boundary::Walls => (cols as f64 + 0.5, (rows - 1) as f64 * h + 1.0, 0.5, 0.5),
+    };
+    let a = (disc_area / (packing * wx * wy)).sqrt();
+    if a < 2.0 * r * (1.0 + 1e-9) {
+        return Err(Error::Invalid(format!(
+            "packing fraction {packing} does not fit {n} discs on a lattice in this box (spacing {a:.4} < diameter 1)"
+        )));
+    }
+    let lengths = [wx * a, wy * a];
+    let sim_box = SimBox { lengths, boundaries: [boundary; DIM] };
+    let mut rng = Pcg64Mcg::seed_from_u64(seed);
+    let mut discs = Vec::with_capacity(n);
+    'fill: for row in 0..rows {
+        for col in 0..cols {
+            if discs.len() == n {
+                break 'fill;
+            }
+            let shift = if row % 2 == 1 { 0.5 } else { 0.0 };
+            let x = (x0 + col as f64 + shift) * a;
+            let y = (y0 + row as f64 * h) * a;
+            discs.push(Disc::new(Vector::new([x, y]), Vector::ZERO, r));
+        }
+    }
+    thermal_velocities(&mut discs, 1.0, &mut rng);
+    Ok((discs, sim_box))
+}
+
+/// Draws Maxwell-Boltzmann velocities at temperature `kt` (each component normal with variance
+/// `kT/m`), removes the centre-of-mass velocity and rescales so that `sum m v^2 / 2 = DIM/2 N kT`
+/// exactly (the 2D equipartition value `N kT`).
+pub fn thermal_velocities(discs: &mut [Disc], kt: f64, rng: &mut impl Rng) {
+    if discs.is_empty() {
+        return;
+    }
+    let mut p = Vector::ZERO;
+    let mut m_total = 0.0;
+    for d in discs.iter_mut() {
+        let s = (kt / d.mass).sqrt();
+        for a in 0..DIM {
+            let z: f64 = rng.sample(StandardNormal);
+            d.vel[a] = s * z;
+        }
+        p += d.vel * d.mass;
+        m_total += d.mass;
+    }
+    let v_cm = p / m_total;
+    let mut ke = 0.0;
+    for d in discs.iter_mut() {
+        // A lone disc keeps its velocity (removing the centre-of-mass motion would stop it).
+        if m_total > d.mass {
+            d.vel -= v_cm;
+        }
+        ke += d.kinetic_energy();
+    }
+    let target = 0.5 * DIM as f64 * discs.len() as f64 * kt;
+    if ke > 0.0 {
+        let s = (target / ke).sqrt();
+        for d in discs.iter_mut() {
+            d.vel = d.vel * s;
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn lattice_has_requested_packing_and_no_overlap() {
+        for &b in &[Boundary::Periodic, Boundary::Walls] {
+            for &phi in &[0.1, 0.6, 0.85] {
+                let (discs, bx) = lattice_fluid(1000, phi, b, 1).unwrap();
+                assert_eq!(discs.len(), 1000);
+                let area: f64 = discs.iter().map(|d| std::f64::consts::PI * d.radius * d.radius).sum();
+                assert!((area / bx.volume() - phi).abs() < 1e-12);
+                let sim = crate::Simulation::new(&discs, bx, Default::default()).unwrap();
+                assert_eq!(sim.overlaps(1e-9).count, 0);
+                let p = sim.momentum();
+                assert!(p.norm2().sqrt() < 1e-9);
+                assert!((sim.kinetic_energy() - 1000.0).abs() < 1e-9);
+            }
+        }
+    }
+
+    #[test]
+    fn impossible_packing_is_refused() {
+        assert!(lattice_fluid(100, 0.95, Boundary::Periodic, 1).is_err());
+        assert!(lattice_fluid(0, 0.5, Boundary::Periodic, 1).is_err());
+    }
+}

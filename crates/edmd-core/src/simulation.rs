@@ -1,0 +1,588 @@
+//! The simulation: state, cell grid, event queue and the event loop.
+//!
+//! # The flow of an event
+//! 1. The queue's front disc `i` and its one pending event are read.
+//! 2. A disc-disc event whose partner has collided since the prediction (its counter moved on)
+//!    is stale: `i` is predicted again and the loop goes on. Nothing else is ever stale, because
+//!    a disc is predicted again whenever its own velocity changes.
+//! 3. Otherwise the discs involved are advanced to the event time (each disc keeps its own
+//!    clock and is only moved when it takes part in an event), the collision rule or the wall
+//!    reflection or the cell move is applied, and each disc involved is predicted again: walls,
+//!    its cell's exit, and every disc in the `3^DIM` cells around it, keeping only the earliest.
+//! 4. Observers are shown the event.
+//!
+//! # Exactness
+//! Event times are `t_event + dt` with `dt >= 0` from the closed-form kernels, so time never goes
+//! backwards. A pair at contact after a collision is separating, and separating pairs are never
+//! predicted to collide, so a pair cannot collide twice on one contact. A pair found overlapping
+//! (by rounding) and approaching collides at once. Wall collisions put the disc exactly at the
+//! contact position. Overlaps stay within rounding, far below [`OVERLAP_TOLERANCE`].
+//!
+//! # Ties
+//! Events at exactly equal times run in order of the disc whose schedule holds them (lowest
+//! index first). A disc's own candidates tie-break in the order cell crossing, walls (axis
+//! order), then discs in cell-scan order: the first found is kept.
+
+use crate::cells::CellGrid;
+use crate::error::Error;
+use crate::events::{EventKind, EventRecord, Pending, Side, Wall};
+use crate::math::{Vector, DIM};
+use crate::observer::Observer;
+use crate::predict::{interval_exit, time_to_contact};
+use crate::resolve::{wall::reflect, CollisionRule};
+use crate::schedule::{EventQueue, TournamentQueue};
+use crate::state::{Colour, Disc, SimBox};
+
+/// Relative tolerance on overlaps and wall penetration: discs closer than
+/// `sigma (1 - OVERLAP_TOLERANCE)` overlap. Input files written with rounded coordinates touch
+/// with overlaps of about 1e-15; the engine's own rounding stays at that level too.
+pub const OVERLAP_TOLERANCE: f64 = 1e-9;
+
+/// What to do with input discs that overlap each other or stick out of a walled box.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum OverlapPolicy {
+    /// Refuse the system with [`Error::Overlap`] or [`Error::OutsideBox`].
+    #[default]
+    Refuse,
+    /// Run it anyway: a disc outside the box is moved (along each axis) to the nearest position
+    /// touching the wall; overlapping pairs are left overlapping. An overlapping pair that
+    /// approaches collides at once (which turns it round), and one that separates moves freely
+    /// until it is apart; from then on it is an ordinary pair.
+    Allow,
+}
+
+/// Run parameters, validated when the simulation is built.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Options {
+    /// Collision rule.
+    pub rule: CollisionRule,
+    /// Treatment of overlapping input.
+    pub overlaps: OverlapPolicy,
+}
+
+/// Counts of processed events.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Stats {
+    /// Disc-disc collisions.
+    pub disc_disc: u64,
+    /// Disc-wall collisions.
+    pub wall: u64,
+    /// Cell crossings.
+    pub cell_crossing: u64,
+    /// Stale events discarded (partner changed course after the prediction).
+    pub stale: u64,
+}
+
+/// What the event loop reads for every neighbour: kept together, 48 bytes.
+#[derive(Clone, Copy, Debug)]
+struct Body {
+    pos: Vector,
+    vel: Vector,
+    /// The disc's own clock: `pos` is its position at this time.
+    time: f64,
+    radius: f64,
+}
+
+impl Body {
+    #[inline(always)]
+    fn position_at(&self, t: f64) -> Vector {
+        self.pos.advanced(self.vel, t - self.time)
+    }
+
+    #[inline(always)]
+    fn advance_to(&mut self, t: f64) {
+        self.pos = self.position_at(t);
+        self.time = t;
+    }
+}
+
+/// A hard-disc system being simulated.
+#[derive(Clone, Debug)]
+pub struct Simulation {
+    sim_box: SimBox,
+    rule: CollisionRule,
+    body: Vec<Body>,
+    mass: Vec<f64>,
+    colour: Vec<Colour>,
+    species: Vec<u16>,
+    /// Velocity changes per disc: validates pending events that name it as partner.
+    count: Vec<u32>,
+    /// Periodic images crossed per disc, for unwrapped positions.
+    image: Vec<[i32; DIM]>,
+    pending: Vec<Pending>,
+    queue: TournamentQueue,
+    grid: CellGrid,
+    /// Time of the last processed event: the reference time of predictions.
+    event_time: f64,
+    /// Observation time, `>= event_time`.
+    now: f64,
+    stats: Stats,
+    adjusted: usize,
+}
+
+impl Simulation {
+    /// Builds and validates a simulation at time 0.
+    pub fn new(discs: &[Disc], sim_box: SimBox, options: Options) -> Result<Self, Error> {
+        if discs.len() >= u32::MAX as usize {
+            return Err(Error::Invalid(format!("too many discs ({})", discs.len())));
+        }
+        for a in 0..DIM {
+            let l = sim_box.lengths[a];
+            if !(l.is_finite() && l > 0.0) {
+                return Err(Error::BadBox { axis: a, length: l });
+            }
+        }
+        validate_discs(discs, &sim_box)?;
+        if options.rule == CollisionRule::Swap {
+            if let Some((k, d)) = discs.iter().enumerate().find(|(_, d)| d.mass != discs[0].mass) {
+                return Err(Error::SwapNeedsEqualMasses { index: k, mass: d.mass, mass0: discs[0].mass });
+            }
+        }
+        let mut adjusted = 0;
+        let mut body = Vec::with_capacity(discs.len());
+        let mut outside = (None, 0usize);
+        for (k, d) in discs.iter().enumerate() {
+            let mut pos = sim_box.wrap(d.pos);
+            let mut moved = false;
+            for a in 0..DIM {
+                if sim_box.is_periodic(a) {
+                    continue;
+                }
+                let (lo, hi) = (d.radius, sim_box.lengths[a] - d.radius);
+                let tol = OVERLAP_TOLERANCE * d.radius;
+                if pos[a] < lo - tol || pos[a] > hi + tol {
+                    outside.0.get_or_insert(k);
+                    outside.1 += 1;
+                    moved = true;
+                }
+                pos[a] = pos[a].clamp(lo, hi);
+            }
+            adjusted += moved as usize;
+            body.push(Body { pos, vel: d.vel, time: 0.0, radius: d.radius });
+        }
+        if let (Some(first), count) = outside {
+            if options.overlaps == OverlapPolicy::Refuse {
+                return Err(Error::OutsideBox { first, count });
+            }
+        }
+        let max_diameter = discs.iter().map(|d| 2.0 * d.radius).fold(0.0, f64::max);
+        let grid = CellGrid::new(&sim_box, discs.len(), if discs.is_empty() { 1.0 } else { max_diameter })?;
+        let n = discs.len();
+        let mut sim = Simulation {
+            sim_box,
+            rule: options.rule,
+            body,
+            mass: discs.iter().map(|d| d.mass).collect(),
+            colour: discs.iter().map(|d| d.colour).collect(),
+            species: discs.iter().map(|d| d.species).collect(),
+            count: vec![0; n],
+            image: vec![[0; DIM]; n],
+            pending: vec![Pending::Nothing; n],
+            queue: TournamentQueue::with_len(n),
+            grid,
+            event_time: 0.0,
+            now: 0.0,
+            stats: Stats::default(),
+            adjusted,
+        };
+        sim.file_all_in_grid();
+        if options.overlaps == OverlapPolicy::Refuse {
+            let report = sim.overlaps(OVERLAP_TOLERANCE);
+            if let Some((i, j, overlap)) = report.first {
+                return Err(Error::Overlap { i, j, overlap, count: report.count });
+            }
+        }
+        sim.schedule_all();
+        Ok(sim)
+    }
+
+    fn file_all_in_grid(&mut self) {
+        self.grid.clear();
+        for i in 0..self.body.len() {
+            let c = self.grid.coord_of(self.body[i].pos);
+            self.grid.insert(i, c);
+        }
+    }
+
+    fn schedule_all(&mut self) {
+        for i in 0..self.body.len() {
+            self.predict(i);
+        }
+    }
+
+    /// Number of discs.
+    pub fn len(&self) -> usize {
+        self.body.len()
+    }
+
+    /// True if there are no discs.
+    pub fn is_empty(&self) -> bool {
+        self.body.is_empty()
+    }
+
+    /// The box.
+    pub fn sim_box(&self) -> &SimBox {
+        &self.sim_box
+    }
+
+    /// The collision rule.
+    pub fn rule(&self) -> CollisionRule {
+        self.rule
+    }
+
+    /// Current (observation) time.
+    pub fn time(&self) -> f64 {
+        self.now
+    }
+
+    /// Event counts so far.
+    pub fn stats(&self) -> Stats {
+        self.stats
+    }
+
+    /// How many input discs were moved into the box under [`OverlapPolicy::Allow`].
+    pub fn adjusted_discs(&self) -> usize {
+        self.adjusted
+    }
+
+    /// Cells per axis of the grid.
+    pub fn grid_dims(&self) -> [u32; DIM] {
+        self.grid.dims()
+    }
+
+    /// Position of disc `i` at the current time (in the primary box on periodic axes).
+    pub fn position(&self, i: usize) -> Vector {
+        self.sim_box.wrap(self.body[i].position_at(self.now))
+    }
+
+    /// Position of disc `i` at the current time, not folded back into the box: the displacement
+    /// since time 0 is `unwrapped_position(i) - initial position`.
+    pub fn unwrapped_position(&self, i: usize) -> Vector {
+        let mut p = self.body[i].position_at(self.now);
+        for a in 0..DIM {
+            p[a] += self.image[i][a] as f64 * self.sim_box.lengths[a];
+        }
+        p
+    }
+
+    /// Velocity of disc `i`.
+    pub fn velocity(&self, i: usize) -> Vector {
+        self.body[i].vel
+    }
+
+    /// Mass of disc `i`.
+    pub fn mass(&self, i: usize) -> f64 {
+        self.mass[i]
+    }
+
+    /// Radius of disc `i`.
+    pub fn radius(&self, i: usize) -> f64 {
+        self.body[i].radius
+    }
+
+    /// Colour of disc `i`.
+    pub fn colour(&self, i: usize) -> Colour {
+        self.colour[i]
+    }
+
+    /// Species of disc `i`.
+    pub fn species(&self, i: usize) -> u16 {
+        self.species[i]
+    }
+
+    /// Disc `i` as a [`Disc`] at the current time.
+    pub fn disc(&self, i: usize) -> Disc {
+        Disc {
+            pos: self.position(i),
+            vel: self.body[i].vel,
+            mass: self.mass[i],
+            radius: self.body[i].radius,
+            colour: self.colour[i],
+            species: self.species[i],
+        }
+    }
+
+    /// All discs at the current time, in input order.
+    pub fn discs(&self) -> Vec<Disc> {
+        (0..self.len()).map(|i| self.disc(i)).collect()
+    }
+
+    /// Total kinetic energy `sum m v^2 / 2`.
+    pub fn kinetic_energy(&self) -> f64 {
+        self.body.iter().zip(&self.mass).map(|(b, m)| 0.5 * m * b.vel.norm2()).sum()
+    }
+
+    /// Total momentum `sum m v`.
+    pub fn momentum(&self) -> Vector {
+        let mut p = Vector::ZERO;
+        for (b, &m) in self.body.iter().zip(&self.mass) {
+            p += b.vel * m;
+        }
+        p
+    }
+
+    /// Time of the next event that would be processed (`None` if nothing will ever happen).
+    /// Stale events are resolved first, so this may update the schedule.
+    pub fn next_event_time(&mut self) -> Option<f64> {
+        loop {
+            let (i, t) = self.queue.min()?;
+            if !t.is_finite() {
+                return None;
+            }
+            if self.discard_if_stale(i) {
+                continue;
+            }
+            return Some(t);
+        }
+    }
+
+    /// Processes every event with time `<= t_end`, showing each to `observer`, then sets the
+    /// current time to `t_end` (if later). Discs are not moved by this last step: positions are
+    /// computed on demand, so stopping at intermediate times never changes the trajectory.
+    pub fn run_until<O: Observer>(&mut self, t_end: f64, observer: &mut O) {
+        while let Some(e) = self.step(t_end) {
+            observer.on_event(&e, self);
+        }
+        if t_end > self.now {
+            self.now = t_end;
+        }
+    }
+
+    /// Processes up to `n` events (cell crossings included) regardless of time, showing each to
+    /// `observer`. Returns how many were processed (fewer only if nothing will ever happen).
+    pub fn run_events<O: Observer>(&mut self, n: u64, observer: &mut O) -> u64 {
+        for k in 0..n {
+            match self.step(f64::INFINITY) {
+                Some(e) => observer.on_event(&e, self),
+                None => return k,
+            }
+        }
+        n
+    }
+
+    /// Processes the next event if its time is `<= t_limit` and returns it.
+    pub fn step(&mut self, t_limit: f64) -> Option<EventRecord> {
+        loop {
+            let (i, t) = self.queue.min()?;
+            if !(t <= t_limit) || !t.is_finite() {
+                return None;
+            }
+            if self.discard_if_stale(i) {
+                continue;
+            }
+            self.event_time = t;
+            self.now = t;
+            let record = match self.pending[i] {
+                Pending::Disc { partner, .. } => self.collide(i, partner as usize, t),
+                Pending::Wall { axis, side } => self.bounce(i, axis as usize, side, t),
+                Pending::Cell { axis, side } => self.cross(i, axis as usize, side, t),
+                Pending::Nothing => unreachable!("finite time with nothing pending"),
+            };
+            return Some(record);
+        }
+    }
+
+    /// If disc `i`'s pending event names a partner that has changed course since, predicts `i`
+    /// again and returns true.
+    #[inline]
+    fn discard_if_stale(&mut self, i: usize) -> bool {
+        if let Pending::Disc { partner, seen } = self.pending[i] {
+            if self.count[partner as usize] != seen {
+                self.stats.stale += 1;
+                self.predict(i);
+                return true;
+            }
+        }
+        false
+    }
+
+    fn collide(&mut self, i: usize, j: usize, t: f64) -> EventRecord {
+        self.body[i].advance_to(t);
+        self.body[j].advance_to(t);
+        let dr = self.sim_box.minimum_image(self.body[j].pos - self.body[i].pos);
+        let out = self.rule.resolve(dr, self.body[i].vel, self.body[j].vel, self.mass[i], self.mass[j]);
+        self.body[i].vel = out.vi;
+        self.body[j].vel = out.vj;
+        self.count[i] = self.count[i].wrapping_add(1);
+        self.count[j] = self.count[j].wrapping_add(1);
+        self.stats.disc_disc += 1;
+        self.predict(i);
+        self.predict(j);
+        EventRecord { time: t, kind: EventKind::DiscDisc { i, j }, impulse: out.impulse }
+    }
+
+    fn bounce(&mut self, i: usize, axis: usize, side: Side, t: f64) -> EventRecord {
+        let b = &mut self.body[i];
+        b.advance_to(t);
+        // Exactly at contact, as the course text asks (x = R or x = Lx - R).
+        b.pos[axis] = match side {
+            Side::Low => b.radius,
+            Side::High => self.sim_box.lengths[axis] - b.radius,
+        };
+        let impulse = reflect(&mut b.vel, axis, self.mass[i]);
+        self.count[i] = self.count[i].wrapping_add(1);
+        self.stats.wall += 1;
+        self.predict(i);
+        EventRecord { time: t, kind: EventKind::Wall { i, wall: Wall { axis, side } }, impulse }
+    }
+
+    fn cross(&mut self, i: usize, axis: usize, side: Side, t: f64) -> EventRecord {
+        self.body[i].advance_to(t);
+        let wrap = self.grid.cross(i, axis, side);
+        if wrap != 0 {
+            self.body[i].pos[axis] += wrap as f64 * self.sim_box.lengths[axis];
+            self.image[i][axis] -= wrap;
+        }
+        self.stats.cell_crossing += 1;
+        self.predict(i);
+        EventRecord { time: t, kind: EventKind::CellCrossing { i, axis, side }, impulse: Vector::ZERO }
+    }
+
+    /// Finds disc `i`'s earliest event from the last event time on and schedules it.
+    fn predict(&mut self, i: usize) {
+        let t0 = self.event_time;
+        self.body[i].advance_to(t0);
+        let bi = self.body[i];
+        let mut best_t = f64::INFINITY;
+        let mut best = Pending::Nothing;
+        if let Some((dt, axis, side)) = self.grid.exit_time(i, bi.pos, bi.vel) {
+            best_t = t0 + dt;
+            best = Pending::Cell { axis: axis as u8, side };
+        }
+        for a in 0..DIM {
+            if self.sim_box.is_periodic(a) {
+                continue;
+            }
+            if let Some((dt, side)) = interval_exit(bi.pos[a], bi.vel[a], bi.radius, self.sim_box.lengths[a] - bi.radius) {
+                if t0 + dt < best_t {
+                    best_t = t0 + dt;
+                    best = Pending::Wall { axis: a as u8, side };
+                }
+            }
+        }
+        let body = &self.body;
+        let count = &self.count;
+        self.grid.for_each_near(self.grid.cell_of(i), |j, shift| {
+            if j == i {
+                return;
+            }
+            let bj = &body[j];
+            let pj = bj.position_at(t0) + shift;
+            if let Some(dt) = time_to_contact(pj - bi.pos, bj.vel - bi.vel, bi.radius + bj.radius) {
+                if t0 + dt < best_t {
+                    best_t = t0 + dt;
+                    best = Pending::Disc { partner: j as u32, seen: count[j] };
+                }
+            }
+        });
+        self.pending[i] = best;
+        self.queue.set(i, best_t);
+    }
+
+    /// Reverses every velocity at the current time (time-reversal experiments) and schedules
+    /// everything again.
+    pub fn reverse_velocities(&mut self) {
+        self.modify_velocities(|_, v| -v);
+    }
+
+    /// Replaces every velocity by `f(i, v)` at the current time and schedules everything again.
+    pub fn modify_velocities(&mut self, mut f: impl FnMut(usize, Vector) -> Vector) {
+        let now = self.now;
+        for (i, b) in self.body.iter_mut().enumerate() {
+            b.advance_to(now);
+            b.vel = f(i, b.vel);
+        }
+        for c in &mut self.count {
+            *c = c.wrapping_add(1);
+        }
+        self.event_time = now;
+        self.schedule_all();
+    }
+
+    /// Overlapping pairs at the current time: those closer than `sigma (1 - tol)`.
+    pub fn overlaps(&self, tol: f64) -> OverlapReport {
+        let mut report = OverlapReport::default();
+        let now = self.now;
+        for i in 0..self.len() {
+            let pi = self.body[i].position_at(now);
+            self.grid.for_each_near(self.grid.cell_of(i), |j, shift| {
+                if j <= i {
+                    return;
+                }
+                let pj = self.body[j].position_at(now) + shift;
+                let sigma = self.body[i].radius + self.body[j].radius;
+                let d = (pj - pi).norm2().sqrt();
+                if d < sigma * (1.0 - tol) {
+                    report.count += 1;
+                    let overlap = (sigma - d) / sigma;
+                    // "First" is the pair completed earliest in input order.
+                    if report.first.is_none_or(|(fi, fj, _)| (j, i) < (fj, fi)) {
+                        report.first = Some((i, j, overlap));
+                    }
+                }
+            });
+        }
+        report
+    }
+
+    /// Discs outside the box (walled axes) at the current time, beyond `tol` relative to radius.
+    pub fn discs_outside(&self, tol: f64) -> Vec<usize> {
+        (0..self.len())
+            .filter(|&i| {
+                let p = self.body[i].position_at(self.now);
+                let r = self.body[i].radius;
+                (0..DIM).any(|a| {
+                    !self.sim_box.is_periodic(a)
+                        && (p[a] < r * (1.0 - tol) || p[a] > self.sim_box.lengths[a] - r * (1.0 - tol))
+                })
+            })
+            .collect()
+    }
+
+    /// Bytes held by the simulation's arrays (capacity, not just length).
+    pub fn memory_bytes(&self) -> usize {
+        use std::mem::size_of;
+        self.body.capacity() * size_of::<Body>()
+            + self.mass.capacity() * 8
+            + self.colour.capacity() * size_of::<Colour>()
+            + self.species.capacity() * 2
+            + self.count.capacity() * 4
+            + self.image.capacity() * size_of::<[i32; DIM]>()
+            + self.pending.capacity() * size_of::<Pending>()
+            + self.queue.memory_bytes()
+            + self.grid.memory_bytes()
+    }
+}
+
+/// Result of [`Simulation::overlaps`].
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct OverlapReport {
+    /// Number of overlapping pairs.
+    pub count: usize,
+    /// The pair completed earliest in input order, `(i, j, (sigma - d)/sigma)` with `i < j`.
+    pub first: Option<(usize, usize, f64)>,
+}
+
+fn validate_discs(discs: &[Disc], sim_box: &SimBox) -> Result<(), Error> {
+    for (k, d) in discs.iter().enumerate() {
+        let bad = |what: &str| Err(Error::BadDisc { index: k, what: what.to_string() });
+        if !d.pos.is_finite() {
+            return bad("position is not finite");
+        }
+        if !d.vel.is_finite() {
+            return bad("velocity is not finite");
+        }
+        if !(d.radius.is_finite() && d.radius > 0.0) {
+            return bad(&format!("radius {} is not a finite positive number", d.radius));
+        }
+        if !(d.mass.is_finite() && d.mass > 0.0) {
+            return bad(&format!("mass {} is not a finite positive number", d.mass));
+        }
+        for a in 0..DIM {
+            if !sim_box.is_periodic(a) && 2.0 * d.radius > sim_box.lengths[a] {
+                return bad(&format!("diameter {} does not fit in the box", 2.0 * d.radius));
+            }
+        }
+    }
+    Ok(())
+}

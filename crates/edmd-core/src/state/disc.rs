@@ -1,0 +1,35 @@
+//! A disc as given by the user.
+
+use crate::math::Vector;
+
+/// An RGB colour, carried along untouched (the Princeton format's `r g b`).
+pub type Colour = [u8; 3];
+
+/// One disc: position, velocity, mass, radius, and labels the engine never looks at.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Disc {
+    /// Centre position.
+    pub pos: Vector,
+    /// Velocity.
+    pub vel: Vector,
+    /// Mass, `> 0`.
+    pub mass: f64,
+    /// Radius, `> 0`.
+    pub radius: f64,
+    /// Display colour.
+    pub colour: Colour,
+    /// Species label (0 unless a file or generator sets one).
+    pub species: u16,
+}
+
+impl Disc {
+    /// A disc of unit mass, black, species 0.
+    pub fn new(pos: Vector, vel: Vector, radius: f64) -> Self {
+        Disc { pos, vel, mass: 1.0, radius, colour: [0, 0, 0], species: 0 }
+    }
+
+    /// Kinetic energy `m v^2 / 2`.
+    pub fn kinetic_energy(&self) -> f64 {
+        0.5 * self.mass * self.vel.norm2()
+    }
+}

@@ -1,0 +1,73 @@
+//! The simulation box `[0, L_0] x [0, L_1] x ...`, each axis with its own boundary.
+
+use crate::math::{Vector, DIM};
+
+/// What happens at the two ends of one axis.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Boundary {
+    /// Hard reflecting walls at 0 and L.
+    Walls,
+    /// Periodic: leaving at L re-enters at 0.
+    Periodic,
+}
+
+/// A rectangular box with a boundary kind per axis.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SimBox {
+    /// Edge lengths.
+    pub lengths: [f64; DIM],
+    /// Boundary kind per axis.
+    pub boundaries: [Boundary; DIM],
+}
+
+impl SimBox {
+    /// A box with walls on every axis.
+    pub fn walls(lengths: [f64; DIM]) -> Self {
+        SimBox { lengths, boundaries: [Boundary::Walls; DIM] }
+    }
+
+    /// A fully periodic box.
+    pub fn periodic(lengths: [f64; DIM]) -> Self {
+        SimBox { lengths, boundaries: [Boundary::Periodic; DIM] }
+    }
+
+    /// The unit box with walls (the Princeton assignment's container).
+    pub fn unit() -> Self {
+        Self::walls([1.0; DIM])
+    }
+
+    /// Area (volume in 3D).
+    pub fn volume(&self) -> f64 {
+        self.lengths.iter().product()
+    }
+
+    /// True if the axis is periodic.
+    pub fn is_periodic(&self, axis: usize) -> bool {
+        self.boundaries[axis] == Boundary::Periodic
+    }
+
+    /// The minimum-image form of a displacement (identity on walled axes).
+    pub fn minimum_image(&self, mut d: Vector) -> Vector {
+        for a in 0..DIM {
+            if self.is_periodic(a) {
+                let l = self.lengths[a];
+                d[a] -= l * (d[a] / l).round();
+            }
+        }
+        d
+    }
+
+    /// Maps a position into the primary box `[0, L)` on periodic axes.
+    pub fn wrap(&self, mut p: Vector) -> Vector {
+        for a in 0..DIM {
+            if self.is_periodic(a) {
+                let l = self.lengths[a];
+                p[a] -= l * (p[a] / l).floor();
+                if p[a] >= l {
+                    p[a] -= l;
+                }
+            }
+        }
+        p
+    }
+}

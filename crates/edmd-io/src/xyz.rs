@@ -1,0 +1,60 @@
+//! Extended XYZ trajectory frames (the format of ASE and OVITO).
+//!
+//! Each frame is `N`, a comment line with `Lattice="..." Properties=... Time=... pbc="..."`, and
+//! one line per disc: `species x y z vx vy vz radius mass r g b` with `z = 0` (both readers want
+//! three components). Colours are written in `[0, 1]` as OVITO's `Color` property expects.
+//! Species are written as element symbols (`H`, `He`, ... by species number) so that ASE, which
+//! turns species into chemical symbols, reads every file.
+
+use edmd_core::{Disc, SimBox, DIM};
+
+/// Chemical symbols used for species 0, 1, 2, ...
+const SYMBOLS: [&str; 10] = ["H", "He", "Li", "Be", "B", "C", "N", "O", "F", "Ne"];
+
+/// Writes one frame.
+pub fn write_frame(out: &mut impl std::io::Write, discs: &[Disc], sim_box: &SimBox, time: f64) -> std::io::Result<()> {
+    let l = sim_box.lengths;
+    let pbc: Vec<&str> = (0..DIM).map(|a| if sim_box.is_periodic(a) { "T" } else { "F" }).collect();
+    writeln!(out, "{}", discs.len())?;
+    writeln!(
+        out,
+        "Lattice=\"{} 0.0 0.0 0.0 {} 0.0 0.0 0.0 1.0\" Properties=species:S:1:pos:R:3:velo:R:3:radius:R:1:mass:R:1:color:R:3 Time={:?} pbc=\"{} {} F\"",
+        l[0], l[1], time, pbc[0], pbc[1]
+    )?;
+    for d in discs {
+        let s = SYMBOLS[d.species as usize % SYMBOLS.len()];
+        writeln!(
+            out,
+            "{s} {:?} {:?} 0.0 {:?} {:?} 0.0 {:?} {:?} {:.4} {:.4} {:.4}",
+            d.pos[0],
+            d.pos[1],
+            d.vel[0],
+            d.vel[1],
+            d.radius,
+            d.mass,
+            d.colour[0] as f64 / 255.0,
+            d.colour[1] as f64 / 255.0,
+            d.colour[2] as f64 / 255.0
+        )?;
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use edmd_core::Vector;
+
+    #[test]
+    fn frame_layout() {
+        let d = Disc::new(Vector::new([0.5, 0.25]), Vector::new([1.0, 0.0]), 0.1);
+        let mut out = Vec::new();
+        write_frame(&mut out, &[d], &SimBox::periodic([2.0, 3.0]), 1.5).unwrap();
+        let text = String::from_utf8(out).unwrap();
+        let lines: Vec<&str> = text.lines().collect();
+        assert_eq!(lines[0], "1");
+        assert!(lines[1].starts_with("Lattice=\"2 0.0 0.0 0.0 3 0.0 0.0 0.0 1.0\""));
+        assert!(lines[1].contains("Time=1.5 pbc=\"T T F\""));
+        assert_eq!(lines[2], "H 0.5 0.25 0.0 1.0 0.0 0.0 0.1 1.0 0.0000 0.0000 0.0000");
+    }
+}
