@@ -28,7 +28,7 @@ use crate::error::Error;
 use crate::events::{EventKind, EventRecord, Pending, Side, Wall};
 use crate::math::{Vector, DIM};
 use crate::observer::Observer;
-use crate::predict::{interval_exit, time_to_contact};
+use crate::predict::{interval_exit, time_to_contact_within};
 use crate::resolve::{wall::reflect, CollisionRule};
 use crate::schedule::{EventQueue, TournamentQueue};
 use crate::state::{Colour, Disc, SimBox};
@@ -73,14 +73,21 @@ pub struct Stats {
     pub stale: u64,
 }
 
-/// What the event loop reads for every neighbour: kept together, 48 bytes.
+/// Everything the event loop reads or writes for one disc, in one 64-byte cache line: its
+/// motion (for predictions against it), its counter (to validate events naming it) and its
+/// pending event (read when it reaches the front of the queue).
 #[derive(Clone, Copy, Debug)]
+#[repr(C, align(64))]
 struct Body {
     pos: Vector,
     vel: Vector,
     /// The disc's own clock: `pos` is its position at this time.
     time: f64,
     radius: f64,
+    /// Velocity changes so far: validates pending events that name this disc as partner.
+    count: u32,
+    /// This disc's one scheduled event.
+    pending: Pending,
 }
 
 impl Body {
@@ -105,11 +112,8 @@ pub struct Simulation {
     mass: Vec<f64>,
     colour: Vec<Colour>,
     species: Vec<u16>,
-    /// Velocity changes per disc: validates pending events that name it as partner.
-    count: Vec<u32>,
     /// Periodic images crossed per disc, for unwrapped positions.
     image: Vec<[i32; DIM]>,
-    pending: Vec<Pending>,
     queue: TournamentQueue,
     grid: CellGrid,
     /// Time of the last processed event: the reference time of predictions.
@@ -158,7 +162,7 @@ impl Simulation {
                 pos[a] = pos[a].clamp(lo, hi);
             }
             adjusted += moved as usize;
-            body.push(Body { pos, vel: d.vel, time: 0.0, radius: d.radius });
+            body.push(Body { pos, vel: d.vel, time: 0.0, radius: d.radius, count: 0, pending: Pending::Nothing });
         }
         if let (Some(first), count) = outside {
             if options.overlaps == OverlapPolicy::Refuse {
@@ -175,9 +179,7 @@ impl Simulation {
             mass: discs.iter().map(|d| d.mass).collect(),
             colour: discs.iter().map(|d| d.colour).collect(),
             species: discs.iter().map(|d| d.species).collect(),
-            count: vec![0; n],
             image: vec![[0; DIM]; n],
-            pending: vec![Pending::Nothing; n],
             queue: TournamentQueue::with_len(n),
             grid,
             event_time: 0.0,
@@ -372,7 +374,7 @@ impl Simulation {
             }
             self.event_time = t;
             self.now = t;
-            let record = match self.pending[i] {
+            let record = match self.body[i].pending {
                 Pending::Disc { partner, .. } => self.collide(i, partner as usize, t),
                 Pending::Wall { axis, side } => self.bounce(i, axis as usize, side, t),
                 Pending::Cell { axis, side } => self.cross(i, axis as usize, side, t),
@@ -386,8 +388,8 @@ impl Simulation {
     /// again and returns true.
     #[inline]
     fn discard_if_stale(&mut self, i: usize) -> bool {
-        if let Pending::Disc { partner, seen } = self.pending[i] {
-            if self.count[partner as usize] != seen {
+        if let Pending::Disc { partner, seen } = self.body[i].pending {
+            if self.body[partner as usize].count != seen {
                 self.stats.stale += 1;
                 self.predict(i);
                 return true;
@@ -403,8 +405,8 @@ impl Simulation {
         let out = self.rule.resolve(dr, self.body[i].vel, self.body[j].vel, self.mass[i], self.mass[j]);
         self.body[i].vel = out.vi;
         self.body[j].vel = out.vj;
-        self.count[i] = self.count[i].wrapping_add(1);
-        self.count[j] = self.count[j].wrapping_add(1);
+        self.body[i].count = self.body[i].count.wrapping_add(1);
+        self.body[j].count = self.body[j].count.wrapping_add(1);
         self.stats.disc_disc += 1;
         self.predict(i);
         self.predict(j);
@@ -420,7 +422,7 @@ impl Simulation {
             Side::High => self.sim_box.lengths[axis] - b.radius,
         };
         let impulse = reflect(&mut b.vel, axis, self.mass[i]);
-        self.count[i] = self.count[i].wrapping_add(1);
+        b.count = b.count.wrapping_add(1);
         self.stats.wall += 1;
         self.predict(i);
         EventRecord { time: t, kind: EventKind::Wall { i, wall: Wall { axis, side } }, impulse }
@@ -461,21 +463,20 @@ impl Simulation {
             }
         }
         let body = &self.body;
-        let count = &self.count;
         self.grid.for_each_near(self.grid.cell_of(i), |j, shift| {
             if j == i {
                 return;
             }
             let bj = &body[j];
             let pj = bj.position_at(t0) + shift;
-            if let Some(dt) = time_to_contact(pj - bi.pos, bj.vel - bi.vel, bi.radius + bj.radius) {
+            if let Some(dt) = time_to_contact_within(pj - bi.pos, bj.vel - bi.vel, bi.radius + bj.radius, best_t - t0) {
                 if t0 + dt < best_t {
                     best_t = t0 + dt;
-                    best = Pending::Disc { partner: j as u32, seen: count[j] };
+                    best = Pending::Disc { partner: j as u32, seen: bj.count };
                 }
             }
         });
-        self.pending[i] = best;
+        self.body[i].pending = best;
         self.queue.set(i, best_t);
     }
 
@@ -491,9 +492,7 @@ impl Simulation {
         for (i, b) in self.body.iter_mut().enumerate() {
             b.advance_to(now);
             b.vel = f(i, b.vel);
-        }
-        for c in &mut self.count {
-            *c = c.wrapping_add(1);
+            b.count = b.count.wrapping_add(1);
         }
         self.event_time = now;
         self.schedule_all();
@@ -546,9 +545,7 @@ impl Simulation {
             + self.mass.capacity() * 8
             + self.colour.capacity() * size_of::<Colour>()
             + self.species.capacity() * 2
-            + self.count.capacity() * 4
             + self.image.capacity() * size_of::<[i32; DIM]>()
-            + self.pending.capacity() * size_of::<Pending>()
             + self.queue.memory_bytes()
             + self.grid.memory_bytes()
     }

@@ -23,6 +23,8 @@ pub struct BenchResult {
     pub collisions: u64,
     /// All events timed (collisions, wall bounces, cell crossings).
     pub events: u64,
+    /// Stale predictions discarded while timing.
+    pub stale: u64,
     /// Wall-clock seconds of the timed event loop.
     pub seconds: f64,
     /// Disc-disc collisions per second.
@@ -74,6 +76,7 @@ pub fn run(args: &BenchArgs) -> Result<()> {
         },
         collisions,
         events,
+        stale: after.stale - before.stale,
         seconds,
         collisions_per_second: collisions as f64 / seconds,
         grid: [g[0], g[1]],

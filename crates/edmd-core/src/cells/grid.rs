@@ -27,6 +27,8 @@ pub struct CellGrid {
     periodic: [bool; DIM],
     stride: [usize; DIM],
     offsets: Vec<[i32; DIM]>,
+    /// The offsets as linear cell-index differences (valid away from the grid's edges).
+    linear_offsets: Vec<isize>,
     head: Vec<u32>,
     next: Vec<u32>,
     prev: Vec<u32>,
@@ -64,6 +66,8 @@ impl CellGrid {
             total = total.checked_mul(d as usize).ok_or_else(|| Error::Invalid("too many cells".into()))?;
         }
         let offsets = neighbour_offsets();
+        let linear_offsets =
+            offsets.iter().map(|o| (0..DIM).map(|a| o[a] as isize * stride[a] as isize).sum()).collect();
         Ok(CellGrid {
             dims,
             width,
@@ -71,6 +75,7 @@ impl CellGrid {
             periodic,
             stride,
             offsets,
+            linear_offsets,
             head: vec![NONE; total],
             next: vec![NONE; n],
             prev: vec![NONE; n],
@@ -203,6 +208,18 @@ impl CellGrid {
     /// where `shift` is the periodic image offset to add to `j`'s position.
     #[inline(always)]
     pub fn for_each_near(&self, c: CellCoord, mut f: impl FnMut(usize, Vector)) {
+        if (0..DIM).all(|a| c[a] >= 1 && c[a] + 2 <= self.dims[a]) {
+            // Away from the edges: no wrapping, no shift, plain index arithmetic.
+            let base = self.linear(c) as isize;
+            for &off in &self.linear_offsets {
+                let mut j = self.head[(base + off) as usize];
+                while j != NONE {
+                    f(j as usize, Vector::ZERO);
+                    j = self.next[j as usize];
+                }
+            }
+            return;
+        }
         'cells: for off in &self.offsets {
             let mut k = 0usize;
             let mut shift = Vector::ZERO;

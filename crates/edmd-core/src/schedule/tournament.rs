@@ -1,9 +1,16 @@
 //! A complete binary tournament tree (as in DynamO's CBT sorter): leaves are discs, each inner
-//! node holds the winner (earliest time) of its two children. Changing one disc's time replays
-//! the matches on its path to the root: `log2 N` comparisons, no allocation, and the minimum is
-//! read from the root in O(1).
+//! node holds the winner (earliest time, and that time) of its two children. Changing one
+//! disc's time replays the matches on its path to the root, reading only the siblings on the
+//! path (the keys live in the nodes, so there is no random access to a separate key array), and
+//! stops as soon as a match's result is unchanged. The minimum is read from the root in O(1).
 
 use super::EventQueue;
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Node {
+    time: f64,
+    disc: u32,
+}
 
 /// Tournament tree over per-disc event times.
 #[derive(Clone, Debug)]
@@ -11,50 +18,47 @@ pub struct TournamentQueue {
     n: usize,
     /// Number of leaves, a power of two `>= max(n, 2)`.
     m: usize,
-    /// Times, padded with `+inf` up to `m`.
-    keys: Vec<f64>,
-    /// `winners[k]` for inner node `k` in `1..m` (index 0 unused).
-    winners: Vec<u32>,
+    /// `nodes[1]` is the root, `nodes[m + i]` the leaf of disc `i`; padding leaves hold `+inf`.
+    nodes: Vec<Node>,
 }
 
 impl TournamentQueue {
-    #[inline(always)]
-    fn player(&self, node: usize) -> u32 {
-        if node >= self.m {
-            (node - self.m) as u32
-        } else {
-            self.winners[node]
-        }
-    }
-
     /// Bytes held.
     pub fn memory_bytes(&self) -> usize {
-        self.keys.capacity() * 8 + self.winners.capacity() * 4
+        self.nodes.capacity() * std::mem::size_of::<Node>()
     }
 }
 
 impl EventQueue for TournamentQueue {
     fn with_len(n: usize) -> Self {
         let m = n.max(2).next_power_of_two();
-        let mut q = TournamentQueue { n, m, keys: vec![f64::INFINITY; m], winners: vec![0; m] };
-        // Initial matches: all times equal, so the left (lower-index) player wins everywhere.
-        for node in (1..m).rev() {
-            q.winners[node] = q.player(2 * node);
+        let mut nodes = vec![Node { time: f64::INFINITY, disc: 0 }; 2 * m];
+        for i in 0..m {
+            nodes[m + i].disc = i as u32;
         }
-        q
+        // All times equal: the left child (lower indices) wins everywhere.
+        for k in (1..m).rev() {
+            nodes[k] = nodes[2 * k];
+        }
+        TournamentQueue { n, m, nodes }
     }
 
     #[inline]
     fn set(&mut self, i: usize, t: f64) {
         debug_assert!(!t.is_nan());
-        self.keys[i] = t;
-        let mut node = (self.m + i) >> 1;
-        while node >= 1 {
-            let l = self.player(2 * node);
-            let r = self.player(2 * node + 1);
-            // Strict `<`: on equal times the left player, whose subtree holds lower indices, wins.
-            self.winners[node] = if self.keys[r as usize] < self.keys[l as usize] { r } else { l };
-            node >>= 1;
+        let mut k = self.m + i;
+        self.nodes[k].time = t;
+        while k > 1 {
+            let parent = k >> 1;
+            let (l, r) = (self.nodes[k & !1], self.nodes[k | 1]);
+            // Strict `<`: on equal times the left child, whose subtree holds lower indices, wins.
+            let w = if r.time < l.time { r } else { l };
+            if self.nodes[parent] == w {
+                // Unchanged result: every match above is unchanged too.
+                break;
+            }
+            self.nodes[parent] = w;
+            k = parent;
         }
     }
 
@@ -63,12 +67,12 @@ impl EventQueue for TournamentQueue {
         if self.n == 0 {
             return None;
         }
-        let w = self.winners[1] as usize;
-        Some((w, self.keys[w]))
+        let w = self.nodes[1];
+        Some((w.disc as usize, w.time))
     }
 
     #[inline]
     fn get(&self, i: usize) -> f64 {
-        self.keys[i]
+        self.nodes[self.m + i].time
     }
 }

@@ -51,7 +51,18 @@ impl SimBox {
         for a in 0..DIM {
             if self.is_periodic(a) {
                 let l = self.lengths[a];
-                d[a] -= l * (d[a] / l).round();
+                // Cheap for the usual case of a displacement already within one box length.
+                if d[a] > 0.5 * l {
+                    d[a] -= l;
+                    if d[a] > 0.5 * l {
+                        d[a] -= l * (d[a] / l).round();
+                    }
+                } else if d[a] < -0.5 * l {
+                    d[a] += l;
+                    if d[a] < -0.5 * l {
+                        d[a] -= l * (d[a] / l).round();
+                    }
+                }
             }
         }
         d
