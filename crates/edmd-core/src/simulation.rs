@@ -28,7 +28,7 @@ use crate::error::Error;
 use crate::events::{EventKind, EventRecord, Pending, Side, Wall};
 use crate::math::{Vector, DIM};
 use crate::observer::Observer;
-use crate::predict::{interval_exit, time_to_contact_within};
+use crate::predict::{contact_time_or_inf, interval_exit};
 use crate::resolve::{wall::reflect, CollisionRule};
 use crate::schedule::{EventQueue, TournamentQueue};
 use crate::state::{Colour, Disc, SimBox};
@@ -469,11 +469,10 @@ impl Simulation {
             }
             let bj = &body[j];
             let pj = bj.position_at(t0) + shift;
-            if let Some(dt) = time_to_contact_within(pj - bi.pos, bj.vel - bi.vel, bi.radius + bj.radius, best_t - t0) {
-                if t0 + dt < best_t {
-                    best_t = t0 + dt;
-                    best = Pending::Disc { partner: j as u32, seen: bj.count };
-                }
+            let t = t0 + contact_time_or_inf(pj - bi.pos, bj.vel - bi.vel, bi.radius + bj.radius);
+            if t < best_t {
+                best_t = t;
+                best = Pending::Disc { partner: j as u32, seen: bj.count };
             }
         });
         self.body[i].pending = best;

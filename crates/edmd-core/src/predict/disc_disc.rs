@@ -15,32 +15,28 @@ use crate::math::Vector;
 /// which is what stops a pair that has just collided from colliding again.
 #[inline(always)]
 pub fn time_to_contact(dr: Vector, dv: Vector, sigma: f64) -> Option<f64> {
-    time_to_contact_within(dr, dv, sigma, f64::INFINITY)
+    let t = contact_time_or_inf(dr, dv, sigma);
+    (t != f64::INFINITY).then_some(t)
 }
 
-/// Like [`time_to_contact`], but may also return `None` when the contact is certainly later
-/// than `horizon`, skipping the square root and division: since `sqrt(b^2 - a c) <= -b`, the
-/// contact time is at least `c / (-2 b)`. The event loop passes the time of the best event
-/// found so far.
+/// [`time_to_contact`] with `+inf` for "never", computed without branches.
+///
+/// The event loop calls this for every neighbour. Whether a pair approaches is a coin toss the
+/// branch predictor cannot learn, so the root is always computed and then selected (measured:
+/// 15% more collisions per second than the branching form, BENCHMARKS.md).
 #[inline(always)]
-pub fn time_to_contact_within(dr: Vector, dv: Vector, sigma: f64, horizon: f64) -> Option<f64> {
+pub fn contact_time_or_inf(dr: Vector, dv: Vector, sigma: f64) -> f64 {
     let b = dr.dot(dv);
-    if b >= 0.0 {
-        return None;
-    }
     let c = dr.norm2() - sigma * sigma;
-    if c <= 0.0 {
-        return Some(0.0);
-    }
-    if c > -2.0 * b * horizon {
-        return None;
-    }
     let a = dv.norm2();
     let d = b * b - a * c;
-    if d < 0.0 {
-        return None;
+    // For c <= 0 (overlapping) the quotient is <= 0 and is clamped to "now".
+    let t = (c / (-b + d.max(0.0).sqrt())).max(0.0);
+    if b < 0.0 && d >= 0.0 {
+        t
+    } else {
+        f64::INFINITY
     }
-    Some(c / (-b + d.sqrt()))
 }
 
 #[cfg(test)]
@@ -81,15 +77,6 @@ mod tests {
         assert_eq!(time_to_contact(v(1.9, 0.0), v(-1.0, 0.0), 2.0), Some(0.0));
         // Overlapping but separating: left alone.
         assert_eq!(time_to_contact(v(1.9, 0.0), v(1.0, 0.0), 2.0), None);
-    }
-
-    #[test]
-    fn horizon_skips_only_later_contacts() {
-        // Contact at t = 4; the lower bound c/(-2b) = 96/40 = 2.4.
-        assert_eq!(time_to_contact_within(v(10.0, 0.0), v(-2.0, 0.0), 2.0, 5.0), Some(4.0));
-        assert_eq!(time_to_contact_within(v(10.0, 0.0), v(-2.0, 0.0), 2.0, 3.0), Some(4.0));
-        assert_eq!(time_to_contact_within(v(10.0, 0.0), v(-2.0, 0.0), 2.0, 2.0), None);
-        assert_eq!(time_to_contact_within(v(1.9, 0.0), v(-1.0, 0.0), 2.0, 0.0), Some(0.0));
     }
 
     #[test]

@@ -6,5 +6,5 @@
 pub mod disc_disc;
 pub mod interval;
 
-pub use disc_disc::{time_to_contact, time_to_contact_within};
+pub use disc_disc::{contact_time_or_inf, time_to_contact};
 pub use interval::{interval_exit, Side};
