@@ -1,0 +1,54 @@
+//! Shared helpers: random systems and a brute-force reference simulator.
+
+pub mod naive;
+
+use edmd_core::{Disc, Vector};
+use rand::{Rng, SeedableRng};
+use rand_pcg::Pcg64Mcg;
+
+/// `n` non-overlapping discs placed at random (rejection sampling) in `[0, l]^2`, radii in
+/// `[r_min, r_max]`, masses in `[0.5, 4]`, velocity components in `[-1, 1]`. With `walls`, the
+/// discs keep clear of the walls.
+pub fn random_discs(n: usize, l: f64, r_min: f64, r_max: f64, walls: bool, seed: u64) -> Vec<Disc> {
+    let mut rng = Pcg64Mcg::seed_from_u64(seed);
+    let mut discs: Vec<Disc> = Vec::new();
+    let mut tries = 0;
+    while discs.len() < n {
+        tries += 1;
+        assert!(tries < 1_000_000, "could not place {n} discs");
+        let r = rng.random_range(r_min..=r_max);
+        let m = if walls { 0.0 } else { r };
+        let p = Vector::new([rng.random_range(m..l - m), rng.random_range(m..l - m)]);
+        let clear = discs.iter().all(|d| {
+            let mut dx = d.pos - p;
+            if !walls {
+                for a in 0..2 {
+                    dx[a] -= l * (dx[a] / l).round();
+                }
+            }
+            dx.norm2() > (d.radius + r).powi(2) * (1.0 + 1e-6)
+        });
+        let inside = !walls || (0..2).all(|a| p[a] >= r && p[a] <= l - r);
+        if clear && inside {
+            let v = Vector::new([rng.random_range(-1.0..1.0), rng.random_range(-1.0..1.0)]);
+            let mut d = Disc::new(p, v, r);
+            d.mass = rng.random_range(0.5..4.0);
+            discs.push(d);
+        }
+    }
+    discs
+}
+
+/// FNV-1a over the bits of every position and velocity: a digest of a run's outcome.
+pub fn digest(discs: &[Disc]) -> u64 {
+    let mut h: u64 = 0xcbf29ce484222325;
+    for d in discs {
+        for x in [d.pos[0], d.pos[1], d.vel[0], d.vel[1]] {
+            for b in x.to_bits().to_le_bytes() {
+                h ^= b as u64;
+                h = h.wrapping_mul(0x100000001b3);
+            }
+        }
+    }
+    h
+}

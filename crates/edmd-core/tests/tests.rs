@@ -1,0 +1,7 @@
+//! Integration tests of the engine, compiled as one binary.
+
+mod support;
+
+mod exact_cases;
+mod invariants;
+mod naive_reference;
