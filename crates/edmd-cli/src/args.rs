@@ -66,7 +66,7 @@ pub struct RunArgs {
     /// Input file (`-` for standard input).
     pub file: String,
     /// End time of the simulation.
-    #[arg(long, value_name = "T", value_parser = parse_time)]
+    #[arg(long, value_name = "T", value_parser = parse_time, allow_negative_numbers = true)]
     pub until: f64,
     /// Write the final state here, in the input's format (`-` for standard output).
     #[arg(long, short, value_name = "OUT")]
@@ -89,7 +89,7 @@ pub struct RunArgs {
     #[arg(long, value_name = "FILE.xyz", requires = "every")]
     pub trajectory: Option<PathBuf>,
     /// Interval between trajectory frames.
-    #[arg(long, value_name = "DT", value_parser = parse_positive, requires = "trajectory")]
+    #[arg(long, value_name = "DT", value_parser = parse_positive, requires = "trajectory", allow_negative_numbers = true)]
     pub every: Option<f64>,
     /// Print the summary as one JSON object on standard output.
     #[arg(long)]
@@ -103,10 +103,10 @@ pub struct RunArgs {
 #[derive(Debug, Args)]
 pub struct BenchArgs {
     /// Number of discs.
-    #[arg(long, value_parser = parse_count)]
+    #[arg(long, value_parser = parse_count, allow_negative_numbers = true)]
     pub n: usize,
     /// Packing fraction (area fraction) of the fluid.
-    #[arg(long, value_parser = parse_positive)]
+    #[arg(long, value_parser = parse_positive, allow_negative_numbers = true)]
     pub packing: f64,
     /// Boundary conditions.
     #[arg(long, value_enum, default_value_t = BoundaryArg::Periodic)]
@@ -123,7 +123,10 @@ pub struct BenchArgs {
 }
 
 fn parse_number(s: &str) -> Result<f64, String> {
-    let x: f64 = s.trim().parse().map_err(|_| format!("'{s}' is not a number"))?;
+    let x: f64 = s
+        .trim()
+        .parse()
+        .map_err(|_| format!("'{s}' is not a number"))?;
     if !x.is_finite() {
         return Err(format!("'{s}' is not a finite number"));
     }
@@ -177,8 +180,31 @@ mod tests {
     #[test]
     fn run_requires_until_and_pairs_trajectory_with_every() {
         assert!(Cli::try_parse_from(["edmd", "run", "f.txt"]).is_err());
-        assert!(Cli::try_parse_from(["edmd", "run", "f.txt", "--until", "1", "--trajectory", "t.xyz"]).is_err());
-        assert!(Cli::try_parse_from(["edmd", "run", "f.txt", "--until", "1", "--trajectory", "t.xyz", "--every", "0.1"]).is_ok());
-        assert!(Cli::try_parse_from(["edmd", "run", "f.txt", "--until", "1", "--rule", "bogus"]).is_err());
+        assert!(Cli::try_parse_from([
+            "edmd",
+            "run",
+            "f.txt",
+            "--until",
+            "1",
+            "--trajectory",
+            "t.xyz"
+        ])
+        .is_err());
+        assert!(Cli::try_parse_from([
+            "edmd",
+            "run",
+            "f.txt",
+            "--until",
+            "1",
+            "--trajectory",
+            "t.xyz",
+            "--every",
+            "0.1"
+        ])
+        .is_ok());
+        assert!(
+            Cli::try_parse_from(["edmd", "run", "f.txt", "--until", "1", "--rule", "bogus"])
+                .is_err()
+        );
     }
 }

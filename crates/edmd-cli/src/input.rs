@@ -4,6 +4,7 @@ use std::io::Read;
 
 use anyhow::Result;
 use edmd_core::{Error as EngineError, Options, Simulation};
+use edmd_io::princeton::ColumnOrder;
 use edmd_io::{Format, LoadedSystem};
 
 use crate::user_error;
@@ -18,26 +19,28 @@ pub fn read_text(path: &str) -> Result<String> {
     };
     match res {
         Ok(()) => Ok(text),
-        Err(e) if e.kind() == std::io::ErrorKind::InvalidData => user_error(format!("{path}: not a text file (invalid UTF-8)")),
+        Err(e) if e.kind() == std::io::ErrorKind::InvalidData => {
+            user_error(format!("{path}: not a text file (invalid UTF-8)"))
+        }
         Err(e) => user_error(format!("{path}: cannot read: {e}")),
     }
 }
 
-/// Parses a file in `format` (`None`: detect).
-pub fn load(path: &str, text: &str, format: Option<Format>) -> Result<LoadedSystem> {
-    let format = match format {
+/// Parses a file in `format` (`None`: detect; a detected Princeton file is read with `order`).
+pub fn load(
+    path: &str,
+    text: &str,
+    format: Option<Format>,
+    order: ColumnOrder,
+) -> Result<LoadedSystem> {
+    let format = match format.or_else(|| edmd_io::detect(text)) {
+        Some(Format::Princeton(_)) => Format::Princeton(order),
         Some(f) => f,
-        None => match edmd_io::detect(text) {
-            Some(f) => f,
-            None if text.trim().is_empty() => return user_error(format!("{path}:1: the file is empty")),
-            None => {
-                return user_error(format!(
-                    "{path}: cannot tell the format (line 2 should hold 1 number for the course format or 9 for the Princeton format); use --format"
-                ))
-            }
-        },
+        // Too short to tell: the Princeton reader names the problem (empty, bad count, ...).
+        None => Format::Princeton(order),
     };
-    edmd_io::parse(text, format).or_else(|e| user_error(format!("{path}:{}: {}", e.line, e.message)))
+    edmd_io::parse(text, format)
+        .or_else(|e| user_error(format!("{path}:{}: {}", e.line, e.message)))
 }
 
 /// Builds the simulation, translating engine refusals into messages naming lines.

@@ -50,15 +50,25 @@ pub fn parse_args<P: clap::Parser>(program: &str) -> Result<P, ExitCode> {
         Ok(p) => Ok(p),
         Err(e) => {
             use clap::error::ErrorKind;
-            if matches!(e.kind(), ErrorKind::DisplayHelp | ErrorKind::DisplayVersion | ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand) {
+            if matches!(
+                e.kind(),
+                ErrorKind::DisplayHelp
+                    | ErrorKind::DisplayVersion
+                    | ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand
+            ) {
                 let _ = e.print();
-                return Err(if e.kind() == ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand {
-                    ExitCode::from(2)
-                } else {
-                    ExitCode::SUCCESS
-                });
+                return Err(
+                    if e.kind() == ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand {
+                        ExitCode::from(2)
+                    } else {
+                        ExitCode::SUCCESS
+                    },
+                );
             }
-            eprintln!("{program}: error: {} (try '{program} --help')", one_line(&e.render().to_string()));
+            eprintln!(
+                "{program}: error: {} (try '{program} --help')",
+                one_line(&e.render().to_string())
+            );
             Err(ExitCode::from(2))
         }
     }

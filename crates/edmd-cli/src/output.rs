@@ -17,10 +17,18 @@ pub struct AtomicFile {
 impl AtomicFile {
     /// Creates the temporary file.
     pub fn create(dest: &Path) -> Result<Self> {
-        let name = dest.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+        let name = dest
+            .file_name()
+            .map(|n| n.to_string_lossy().into_owned())
+            .unwrap_or_default();
         let tmp = dest.with_file_name(format!(".{name}.edmd-{}.tmp", std::process::id()));
-        let file = File::create(&tmp).map_err(|e| crate::UserError(format!("{}: cannot create: {e}", dest.display())))?;
-        Ok(AtomicFile { dest: dest.to_path_buf(), tmp, writer: Some(BufWriter::new(file)) })
+        let file = File::create(&tmp)
+            .map_err(|e| crate::UserError(format!("{}: cannot create: {e}", dest.display())))?;
+        Ok(AtomicFile {
+            dest: dest.to_path_buf(),
+            tmp,
+            writer: Some(BufWriter::new(file)),
+        })
     }
 
     /// The writer.
@@ -31,9 +39,11 @@ impl AtomicFile {
     /// Flushes and moves the file into place.
     pub fn commit(mut self) -> Result<()> {
         let mut w = self.writer.take().expect("writer present until commit");
-        w.flush().with_context(|| format!("{}: write failed", self.dest.display()))?;
+        w.flush()
+            .with_context(|| format!("{}: write failed", self.dest.display()))?;
         drop(w);
-        std::fs::rename(&self.tmp, &self.dest).with_context(|| format!("{}: cannot move into place", self.dest.display()))
+        std::fs::rename(&self.tmp, &self.dest)
+            .with_context(|| format!("{}: cannot move into place", self.dest.display()))
     }
 }
 

@@ -142,7 +142,10 @@ mod tests {
     fn dot_and_motion() {
         let a = Vector::new([3.0, 4.0]);
         assert_eq!(a.norm2(), 25.0);
-        assert_eq!(a.advanced(Vector::new([1.0, -1.0]), 2.0), Vector::new([5.0, 2.0]));
+        assert_eq!(
+            a.advanced(Vector::new([1.0, -1.0]), 2.0),
+            Vector::new([5.0, 2.0])
+        );
         assert_eq!(-a, Vector::new([-3.0, -4.0]));
     }
 }

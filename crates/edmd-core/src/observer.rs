@@ -59,7 +59,10 @@ pub struct CollisionCounter {
 impl CollisionCounter {
     /// Counters for `n` discs, all zero.
     pub fn new(n: usize) -> Self {
-        CollisionCounter { wall: vec![0; n], disc: vec![0; n] }
+        CollisionCounter {
+            wall: vec![0; n],
+            disc: vec![0; n],
+        }
     }
 }
 

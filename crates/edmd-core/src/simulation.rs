@@ -138,8 +138,16 @@ impl Simulation {
         }
         validate_discs(discs, &sim_box)?;
         if options.rule == CollisionRule::Swap {
-            if let Some((k, d)) = discs.iter().enumerate().find(|(_, d)| d.mass != discs[0].mass) {
-                return Err(Error::SwapNeedsEqualMasses { index: k, mass: d.mass, mass0: discs[0].mass });
+            if let Some((k, d)) = discs
+                .iter()
+                .enumerate()
+                .find(|(_, d)| d.mass != discs[0].mass)
+            {
+                return Err(Error::SwapNeedsEqualMasses {
+                    index: k,
+                    mass: d.mass,
+                    mass0: discs[0].mass,
+                });
             }
         }
         let mut adjusted = 0;
@@ -154,15 +162,22 @@ impl Simulation {
                 }
                 let (lo, hi) = (d.radius, sim_box.lengths[a] - d.radius);
                 let tol = OVERLAP_TOLERANCE * d.radius;
-                if pos[a] < lo - tol || pos[a] > hi + tol {
-                    outside.0.get_or_insert(k);
-                    outside.1 += 1;
-                    moved = true;
-                }
+                moved |= pos[a] < lo - tol || pos[a] > hi + tol;
                 pos[a] = pos[a].clamp(lo, hi);
             }
+            if moved {
+                outside.0.get_or_insert(k);
+                outside.1 += 1;
+            }
             adjusted += moved as usize;
-            body.push(Body { pos, vel: d.vel, time: 0.0, radius: d.radius, count: 0, pending: Pending::Nothing });
+            body.push(Body {
+                pos,
+                vel: d.vel,
+                time: 0.0,
+                radius: d.radius,
+                count: 0,
+                pending: Pending::Nothing,
+            });
         }
         if let (Some(first), count) = outside {
             if options.overlaps == OverlapPolicy::Refuse {
@@ -170,7 +185,11 @@ impl Simulation {
             }
         }
         let max_diameter = discs.iter().map(|d| 2.0 * d.radius).fold(0.0, f64::max);
-        let grid = CellGrid::new(&sim_box, discs.len(), if discs.is_empty() { 1.0 } else { max_diameter })?;
+        let grid = CellGrid::new(
+            &sim_box,
+            discs.len(),
+            if discs.is_empty() { 1.0 } else { max_diameter },
+        )?;
         let n = discs.len();
         let mut sim = Simulation {
             sim_box,
@@ -191,7 +210,12 @@ impl Simulation {
         if options.overlaps == OverlapPolicy::Refuse {
             let report = sim.overlaps(OVERLAP_TOLERANCE);
             if let Some((i, j, overlap)) = report.first {
-                return Err(Error::Overlap { i, j, overlap, count: report.count });
+                return Err(Error::Overlap {
+                    i,
+                    j,
+                    overlap,
+                    count: report.count,
+                });
             }
         }
         sim.schedule_all();
@@ -311,7 +335,11 @@ impl Simulation {
 
     /// Total kinetic energy `sum m v^2 / 2`.
     pub fn kinetic_energy(&self) -> f64 {
-        self.body.iter().zip(&self.mass).map(|(b, m)| 0.5 * m * b.vel.norm2()).sum()
+        self.body
+            .iter()
+            .zip(&self.mass)
+            .map(|(b, m)| 0.5 * m * b.vel.norm2())
+            .sum()
     }
 
     /// Total momentum `sum m v`.
@@ -366,7 +394,8 @@ impl Simulation {
     pub fn step(&mut self, t_limit: f64) -> Option<EventRecord> {
         loop {
             let (i, t) = self.queue.min()?;
-            if !(t <= t_limit) || !t.is_finite() {
+            // Times are never NaN: `+inf` is "nothing ahead".
+            if t > t_limit || t == f64::INFINITY {
                 return None;
             }
             if self.discard_if_stale(i) {
@@ -401,8 +430,16 @@ impl Simulation {
     fn collide(&mut self, i: usize, j: usize, t: f64) -> EventRecord {
         self.body[i].advance_to(t);
         self.body[j].advance_to(t);
-        let dr = self.sim_box.minimum_image(self.body[j].pos - self.body[i].pos);
-        let out = self.rule.resolve(dr, self.body[i].vel, self.body[j].vel, self.mass[i], self.mass[j]);
+        let dr = self
+            .sim_box
+            .minimum_image(self.body[j].pos - self.body[i].pos);
+        let out = self.rule.resolve(
+            dr,
+            self.body[i].vel,
+            self.body[j].vel,
+            self.mass[i],
+            self.mass[j],
+        );
         self.body[i].vel = out.vi;
         self.body[j].vel = out.vj;
         self.body[i].count = self.body[i].count.wrapping_add(1);
@@ -410,7 +447,11 @@ impl Simulation {
         self.stats.disc_disc += 1;
         self.predict(i);
         self.predict(j);
-        EventRecord { time: t, kind: EventKind::DiscDisc { i, j }, impulse: out.impulse }
+        EventRecord {
+            time: t,
+            kind: EventKind::DiscDisc { i, j },
+            impulse: out.impulse,
+        }
     }
 
     fn bounce(&mut self, i: usize, axis: usize, side: Side, t: f64) -> EventRecord {
@@ -425,7 +466,14 @@ impl Simulation {
         b.count = b.count.wrapping_add(1);
         self.stats.wall += 1;
         self.predict(i);
-        EventRecord { time: t, kind: EventKind::Wall { i, wall: Wall { axis, side } }, impulse }
+        EventRecord {
+            time: t,
+            kind: EventKind::Wall {
+                i,
+                wall: Wall { axis, side },
+            },
+            impulse,
+        }
     }
 
     fn cross(&mut self, i: usize, axis: usize, side: Side, t: f64) -> EventRecord {
@@ -437,7 +485,11 @@ impl Simulation {
         }
         self.stats.cell_crossing += 1;
         self.predict(i);
-        EventRecord { time: t, kind: EventKind::CellCrossing { i, axis, side }, impulse: Vector::ZERO }
+        EventRecord {
+            time: t,
+            kind: EventKind::CellCrossing { i, axis, side },
+            impulse: Vector::ZERO,
+        }
     }
 
     /// Finds disc `i`'s earliest event from the last event time on and schedules it.
@@ -449,16 +501,27 @@ impl Simulation {
         let mut best = Pending::Nothing;
         if let Some((dt, axis, side)) = self.grid.exit_time(i, bi.pos, bi.vel) {
             best_t = t0 + dt;
-            best = Pending::Cell { axis: axis as u8, side };
+            best = Pending::Cell {
+                axis: axis as u8,
+                side,
+            };
         }
         for a in 0..DIM {
             if self.sim_box.is_periodic(a) {
                 continue;
             }
-            if let Some((dt, side)) = interval_exit(bi.pos[a], bi.vel[a], bi.radius, self.sim_box.lengths[a] - bi.radius) {
+            if let Some((dt, side)) = interval_exit(
+                bi.pos[a],
+                bi.vel[a],
+                bi.radius,
+                self.sim_box.lengths[a] - bi.radius,
+            ) {
                 if t0 + dt < best_t {
                     best_t = t0 + dt;
-                    best = Pending::Wall { axis: a as u8, side };
+                    best = Pending::Wall {
+                        axis: a as u8,
+                        side,
+                    };
                 }
             }
         }
@@ -472,7 +535,10 @@ impl Simulation {
             let t = t0 + contact_time_or_inf(pj - bi.pos, bj.vel - bi.vel, bi.radius + bj.radius);
             if t < best_t {
                 best_t = t;
-                best = Pending::Disc { partner: j as u32, seen: bj.count };
+                best = Pending::Disc {
+                    partner: j as u32,
+                    seen: bj.count,
+                };
             }
         });
         self.body[i].pending = best;
@@ -531,7 +597,8 @@ impl Simulation {
                 let r = self.body[i].radius;
                 (0..DIM).any(|a| {
                     !self.sim_box.is_periodic(a)
-                        && (p[a] < r * (1.0 - tol) || p[a] > self.sim_box.lengths[a] - r * (1.0 - tol))
+                        && (p[a] < r * (1.0 - tol)
+                            || p[a] > self.sim_box.lengths[a] - r * (1.0 - tol))
                 })
             })
             .collect()
@@ -561,7 +628,12 @@ pub struct OverlapReport {
 
 fn validate_discs(discs: &[Disc], sim_box: &SimBox) -> Result<(), Error> {
     for (k, d) in discs.iter().enumerate() {
-        let bad = |what: &str| Err(Error::BadDisc { index: k, what: what.to_string() });
+        let bad = |what: &str| {
+            Err(Error::BadDisc {
+                index: k,
+                what: what.to_string(),
+            })
+        };
         if !d.pos.is_finite() {
             return bad("position is not finite");
         }
@@ -569,14 +641,20 @@ fn validate_discs(discs: &[Disc], sim_box: &SimBox) -> Result<(), Error> {
             return bad("velocity is not finite");
         }
         if !(d.radius.is_finite() && d.radius > 0.0) {
-            return bad(&format!("radius {} is not a finite positive number", d.radius));
+            return bad(&format!(
+                "radius {} is not a finite positive number",
+                d.radius
+            ));
         }
         if !(d.mass.is_finite() && d.mass > 0.0) {
             return bad(&format!("mass {} is not a finite positive number", d.mass));
         }
         for a in 0..DIM {
             if !sim_box.is_periodic(a) && 2.0 * d.radius > sim_box.lengths[a] {
-                return bad(&format!("diameter {} does not fit in the box", 2.0 * d.radius));
+                return bad(&format!(
+                    "diameter {} does not fit in the box",
+                    2.0 * d.radius
+                ));
             }
         }
     }

@@ -25,9 +25,20 @@ fn disc_aimed_at_a_corner_hits_two_walls_at_once() {
 #[test]
 fn head_on_equal_masses_exchange_velocities() {
     // Gap 4 - 2 = 2 closing at 2: contact at t = 1 at x = 4 and 6; then they move apart.
-    let d = [Disc::new(v(3.0, 5.0), v(1.0, 0.0), 1.0), Disc::new(v(7.0, 5.0), v(-1.0, 0.0), 1.0)];
+    let d = [
+        Disc::new(v(3.0, 5.0), v(1.0, 0.0), 1.0),
+        Disc::new(v(7.0, 5.0), v(-1.0, 0.0), 1.0),
+    ];
     for rule in [CollisionRule::Elastic, CollisionRule::Swap] {
-        let mut sim = Simulation::new(&d, SimBox::walls([10.0, 10.0]), Options { rule, ..Default::default() }).unwrap();
+        let mut sim = Simulation::new(
+            &d,
+            SimBox::walls([10.0, 10.0]),
+            Options {
+                rule,
+                ..Default::default()
+            },
+        )
+        .unwrap();
         let mut c = CollisionCounter::new(2);
         sim.run_until(2.0, &mut c);
         assert_eq!(c.disc, vec![1, 1]);
@@ -43,7 +54,10 @@ fn oblique_collision_at_rest_target_goes_off_at_right_angles() {
     // contact when the centres are 2 apart, line of centres at 30 degrees below horizontal.
     // Contact point: x0 = 5 + sqrt3 - sqrt(4 - 1) = 5, at t = 3.
     let s3 = 3f64.sqrt();
-    let d = [Disc::new(v(2.0, 6.0), v(1.0, 0.0), 1.0), Disc::new(v(5.0 + s3, 5.0), v(0.0, 0.0), 1.0)];
+    let d = [
+        Disc::new(v(2.0, 6.0), v(1.0, 0.0), 1.0),
+        Disc::new(v(5.0 + s3, 5.0), v(0.0, 0.0), 1.0),
+    ];
     let mut sim = Simulation::new(&d, SimBox::walls([20.0, 20.0]), Options::default()).unwrap();
     let mut c = CollisionCounter::new(2);
     sim.run_until(3.0, &mut c);
@@ -53,7 +67,10 @@ fn oblique_collision_at_rest_target_goes_off_at_right_angles() {
     let (v0, v1) = (sim.velocity(0), sim.velocity(1));
     assert!((v1 - v(0.75, -s3 / 4.0)).norm2().sqrt() < 1e-14, "{v1:?}");
     assert!((v0 - v(0.25, s3 / 4.0)).norm2().sqrt() < 1e-14, "{v0:?}");
-    assert!(v0.dot(v1).abs() < 1e-14, "equal masses leave at right angles");
+    assert!(
+        v0.dot(v1).abs() < 1e-14,
+        "equal masses leave at right angles"
+    );
 }
 
 #[test]
@@ -63,7 +80,11 @@ fn periodic_boundary_carries_a_disc_round() {
     let d = [Disc::new(v(1.0, 1.0), v(3.0, 0.0), 0.5)];
     let mut sim = Simulation::new(&d, SimBox::periodic([10.0, 10.0]), Options::default()).unwrap();
     sim.run_until(3.0, &mut ());
-    assert!((sim.position(0) - v(0.0, 1.0)).norm2() < 1e-24, "{:?}", sim.position(0));
+    assert!(
+        (sim.position(0) - v(0.0, 1.0)).norm2() < 1e-24,
+        "{:?}",
+        sim.position(0)
+    );
     assert!((sim.unwrapped_position(0) - v(10.0, 1.0)).norm2() < 1e-24);
 }
 
@@ -71,7 +92,10 @@ fn periodic_boundary_carries_a_disc_round() {
 fn pair_colliding_across_the_periodic_boundary() {
     // Discs at x = 0.5 and x = 9.5 in a periodic box of 10, radius 0.4: 1 apart through the
     // boundary, gap 0.2, closing at 2 -> contact at t = 0.1.
-    let d = [Disc::new(v(0.5, 5.0), v(-1.0, 0.0), 0.4), Disc::new(v(9.5, 5.0), v(1.0, 0.0), 0.4)];
+    let d = [
+        Disc::new(v(0.5, 5.0), v(-1.0, 0.0), 0.4),
+        Disc::new(v(9.5, 5.0), v(1.0, 0.0), 0.4),
+    ];
     let mut sim = Simulation::new(&d, SimBox::periodic([10.0, 10.0]), Options::default()).unwrap();
     let mut c = CollisionCounter::new(2);
     sim.run_until(0.1 + 1e-12, &mut c);
@@ -81,7 +105,10 @@ fn pair_colliding_across_the_periodic_boundary() {
 
 #[test]
 fn touching_discs_at_rest_stay_put() {
-    let d = [Disc::new(v(2.0, 2.0), v(0.0, 0.0), 1.0), Disc::new(v(4.0, 2.0), v(0.0, 0.0), 1.0)];
+    let d = [
+        Disc::new(v(2.0, 2.0), v(0.0, 0.0), 1.0),
+        Disc::new(v(4.0, 2.0), v(0.0, 0.0), 1.0),
+    ];
     let mut sim = Simulation::new(&d, SimBox::walls([10.0, 10.0]), Options::default()).unwrap();
     assert_eq!(sim.next_event_time(), None);
     sim.run_until(100.0, &mut ());

@@ -2,7 +2,8 @@
 
 use edmd_core::setup::lattice_fluid;
 use edmd_core::{
-    Boundary, Disc, EventKind, EventRecord, Observer, Options, SimBox, Simulation, Vector, OVERLAP_TOLERANCE,
+    Boundary, Disc, EventKind, EventRecord, Observer, Options, SimBox, Simulation, Vector,
+    OVERLAP_TOLERANCE,
 };
 use proptest::prelude::*;
 
@@ -24,12 +25,19 @@ impl Observer for Watchdog {
         if self.last_partner.is_empty() {
             self.last_partner = vec![None; sim.len()];
         }
-        assert!(e.time >= self.last_time, "time went backwards: {} after {}", e.time, self.last_time);
+        assert!(
+            e.time >= self.last_time,
+            "time went backwards: {} after {}",
+            e.time,
+            self.last_time
+        );
         self.last_time = e.time;
         self.events += 1;
         match e.kind {
             EventKind::DiscDisc { i, j } => {
-                if let (Some((pi, ti)), Some((pj, _))) = (self.last_partner[i], self.last_partner[j]) {
+                if let (Some((pi, ti)), Some((pj, _))) =
+                    (self.last_partner[i], self.last_partner[j])
+                {
                     assert!(
                         !(pi == j && pj == i && e.time - ti < 1e-9),
                         "discs {i} and {j} collided twice at t = {} and {ti}",
@@ -46,13 +54,19 @@ impl Observer for Watchdog {
 }
 
 fn total_abs_momentum(sim: &Simulation) -> f64 {
-    (0..sim.len()).map(|i| sim.mass(i) * sim.velocity(i).norm2().sqrt()).sum()
+    (0..sim.len())
+        .map(|i| sim.mass(i) * sim.velocity(i).norm2().sqrt())
+        .sum()
 }
 
 fn check_state(sim: &Simulation) {
     let o = sim.overlaps(OVERLAP_TOLERANCE);
     assert_eq!(o.count, 0, "overlap at t = {}: {:?}", sim.time(), o.first);
-    assert!(sim.discs_outside(OVERLAP_TOLERANCE).is_empty(), "disc outside the box at t = {}", sim.time());
+    assert!(
+        sim.discs_outside(OVERLAP_TOLERANCE).is_empty(),
+        "disc outside the box at t = {}",
+        sim.time()
+    );
 }
 
 /// Runs `sim` to `t_end` in `steps` stages, checking the invariants at each stage.
@@ -84,18 +98,27 @@ fn energy_momentum_and_geometry_hold_in_dense_periodic_fluid() {
 fn energy_and_geometry_hold_with_walls_and_unequal_discs() {
     for seed in 0..4 {
         let discs = random_discs(300, 20.0, 0.1, 0.6, true, seed);
-        let mut sim = Simulation::new(&discs, SimBox::walls([20.0, 20.0]), Options::default()).unwrap();
+        let mut sim =
+            Simulation::new(&discs, SimBox::walls([20.0, 20.0]), Options::default()).unwrap();
         let e0 = sim.kinetic_energy();
         run_checked(&mut sim, 30.0, 10);
-        assert!(sim.stats().disc_disc > 5_000 && sim.stats().wall > 500, "{:?}", sim.stats());
-        assert!(((sim.kinetic_energy() - e0) / e0).abs() < 1e-12, "seed {seed}");
+        assert!(
+            sim.stats().disc_disc > 5_000 && sim.stats().wall > 500,
+            "{:?}",
+            sim.stats()
+        );
+        assert!(
+            ((sim.kinetic_energy() - e0) / e0).abs() < 1e-12,
+            "seed {seed}"
+        );
     }
 }
 
 #[test]
 fn momentum_is_conserved_with_periodic_boundaries_and_unequal_masses() {
     let discs = random_discs(400, 25.0, 0.2, 0.7, false, 11);
-    let mut sim = Simulation::new(&discs, SimBox::periodic([25.0, 25.0]), Options::default()).unwrap();
+    let mut sim =
+        Simulation::new(&discs, SimBox::periodic([25.0, 25.0]), Options::default()).unwrap();
     let p0 = sim.momentum();
     let e0 = sim.kinetic_energy();
     run_checked(&mut sim, 40.0, 8);
@@ -138,7 +161,12 @@ fn golden_digest_of_a_fixed_run() {
     sim.run_until(5.0, &mut ());
     let s = sim.stats();
     assert_eq!((s.disc_disc, s.wall), (GOLDEN_COLLISIONS, 0));
-    assert_eq!(digest(&sim.discs()), GOLDEN_DIGEST, "trajectory changed: {:#x}", digest(&sim.discs()));
+    assert_eq!(
+        digest(&sim.discs()),
+        GOLDEN_DIGEST,
+        "trajectory changed: {:#x}",
+        digest(&sim.discs())
+    );
 }
 const GOLDEN_COLLISIONS: u64 = 12850;
 const GOLDEN_DIGEST: u64 = 0xa617_9587_1d1a_7d78;
@@ -157,17 +185,41 @@ fn reversing_velocities_retraces_the_path() {
     assert!(forward > 250, "{forward}");
     sim.reverse_velocities();
     sim.run_until(2.0 * t, &mut ());
-    let worst = (0..discs.len()).map(|i| (sim.position(i) - discs[i].pos).norm2().sqrt()).fold(0.0, f64::max);
+    let worst = (0..discs.len())
+        .map(|i| (sim.position(i) - discs[i].pos).norm2().sqrt())
+        .fold(0.0, f64::max);
     assert!(worst < 1e-9, "a disc misses its start by {worst}");
 }
 
 #[test]
 fn overlapping_input_is_refused_or_run_on_request() {
-    let d = [Disc::new(Vector::new([2.0, 2.0]), Vector::new([1.0, 0.0]), 1.0), Disc::new(Vector::new([3.5, 2.0]), Vector::new([-1.0, 0.0]), 1.0)];
+    let d = [
+        Disc::new(Vector::new([2.0, 2.0]), Vector::new([1.0, 0.0]), 1.0),
+        Disc::new(Vector::new([3.5, 2.0]), Vector::new([-1.0, 0.0]), 1.0),
+    ];
     let bx = SimBox::walls([10.0, 10.0]);
     let e = Simulation::new(&d, bx, Options::default()).unwrap_err();
-    assert!(matches!(e, edmd_core::Error::Overlap { i: 0, j: 1, count: 1, .. }), "{e:?}");
-    let mut sim = Simulation::new(&d, bx, Options { overlaps: edmd_core::OverlapPolicy::Allow, ..Default::default() }).unwrap();
+    assert!(
+        matches!(
+            e,
+            edmd_core::Error::Overlap {
+                i: 0,
+                j: 1,
+                count: 1,
+                ..
+            }
+        ),
+        "{e:?}"
+    );
+    let mut sim = Simulation::new(
+        &d,
+        bx,
+        Options {
+            overlaps: edmd_core::OverlapPolicy::Allow,
+            ..Default::default()
+        },
+    )
+    .unwrap();
     // Approaching while overlapping: they collide at once and separate.
     sim.run_until(0.5, &mut ());
     assert_eq!(sim.stats().disc_disc, 1);

@@ -31,11 +31,26 @@ fn same_events_as_the_brute_force_simulator() {
         let mut reference = discs.clone();
         let expected = naive::run(&mut reference, l, 5.0);
         sim.run_until(5.0, &mut log);
-        assert!(expected.len() > 80, "seed {seed}: too few events ({}) to compare", expected.len());
-        assert_eq!(log.0.len(), expected.len(), "seed {seed}: event counts differ");
+        assert!(
+            expected.len() > 80,
+            "seed {seed}: too few events ({}) to compare",
+            expected.len()
+        );
+        assert_eq!(
+            log.0.len(),
+            expected.len(),
+            "seed {seed}: event counts differ"
+        );
         for (k, (a, b)) in log.0.iter().zip(&expected).enumerate() {
-            assert_eq!((a.1, a.2), (b.1, b.2), "seed {seed}: event {k} differs: {a:?} vs {b:?}");
-            assert!((a.0 - b.0).abs() < 1e-9, "seed {seed}: event {k} time {a:?} vs {b:?}");
+            assert_eq!(
+                (a.1, a.2),
+                (b.1, b.2),
+                "seed {seed}: event {k} differs: {a:?} vs {b:?}"
+            );
+            assert!(
+                (a.0 - b.0).abs() < 1e-9,
+                "seed {seed}: event {k} time {a:?} vs {b:?}"
+            );
         }
     }
 }

@@ -29,7 +29,12 @@ pub struct CourseSystem {
 impl CourseSystem {
     /// As a [`LoadedSystem`] with a walled box.
     pub fn into_loaded(self) -> LoadedSystem {
-        LoadedSystem { discs: self.discs, sim_box: SimBox::walls(self.lengths), lines: self.lines, format: Format::Course }
+        LoadedSystem {
+            discs: self.discs,
+            sim_box: SimBox::walls(self.lengths),
+            lines: self.lines,
+            format: Format::Course,
+        }
     }
 }
 
@@ -39,7 +44,10 @@ pub fn parse(text: &str) -> Result<CourseSystem, ParseError> {
     let n = count(&mut lines)?;
     let (line, f) = lines.expect_fields("the radius (line 2)")?;
     if f.len() != 1 {
-        return Err(err(line, format!("expected the radius alone, found {} fields", f.len())));
+        return Err(err(
+            line,
+            format!("expected the radius alone, found {} fields", f.len()),
+        ));
     }
     let radius = number(line, f[0], "radius")?;
     if radius <= 0.0 {
@@ -57,21 +65,46 @@ pub fn parse(text: &str) -> Result<CourseSystem, ParseError> {
     for k in 0..n {
         let (line, f) = lines.expect_fields(&format!("disc {} of {n}", k + 1))?;
         let x = numbers(line, &f, &["x", "y", "u", "v"])?;
-        discs.push(Disc::new(Vector::new([x[0], x[1]]), Vector::new([x[2], x[3]]), radius));
+        discs.push(Disc::new(
+            Vector::new([x[0], x[1]]),
+            Vector::new([x[2], x[3]]),
+            radius,
+        ));
         at.push(line);
     }
     expect_end(&mut lines, n)?;
-    Ok(CourseSystem { radius, lengths: [l[0], l[1]], discs, lines: at })
+    Ok(CourseSystem {
+        radius,
+        lengths: [l[0], l[1]],
+        discs,
+        lines: at,
+    })
 }
 
 /// Writes discs in the course format (the radius of the first disc is written; an empty system
 /// gets radius 1).
-pub fn write(out: &mut impl std::io::Write, discs: &[Disc], sim_box: &SimBox) -> std::io::Result<()> {
+pub fn write(
+    out: &mut impl std::io::Write,
+    discs: &[Disc],
+    sim_box: &SimBox,
+) -> std::io::Result<()> {
     writeln!(out, "{}", discs.len())?;
     writeln!(out, "{}", exact(discs.first().map_or(1.0, |d| d.radius)))?;
-    writeln!(out, "{} {}", exact(sim_box.lengths[0]), exact(sim_box.lengths[1]))?;
+    writeln!(
+        out,
+        "{} {}",
+        exact(sim_box.lengths[0]),
+        exact(sim_box.lengths[1])
+    )?;
     for d in discs {
-        writeln!(out, "{} {} {} {}", exact(d.pos[0]), exact(d.pos[1]), exact(d.vel[0]), exact(d.vel[1]))?;
+        writeln!(
+            out,
+            "{} {} {} {}",
+            exact(d.pos[0]),
+            exact(d.pos[1]),
+            exact(d.vel[0]),
+            exact(d.vel[1])
+        )?;
     }
     Ok(())
 }

@@ -40,15 +40,15 @@ pub enum Format {
     Princeton(princeton::ColumnOrder),
 }
 
-/// Guesses the format from the first disc-bearing line: the course format has a lone radius on
-/// its second non-blank line, the Princeton format nine numbers.
+/// Guesses the format from the second non-blank line: a lone number (the radius) means the
+/// course format, anything else the Princeton format (whose reader then says what is wrong
+/// with a malformed line). `None` if the file has fewer than two non-blank lines.
 pub fn detect(text: &str) -> Option<Format> {
     let mut lines = text.lines().filter(|l| !l.trim().is_empty());
     lines.next()?;
     match lines.next()?.split_whitespace().count() {
         1 => Some(Format::Course),
-        9 => Some(Format::Princeton(princeton::ColumnOrder::default())),
-        _ => None,
+        _ => Some(Format::Princeton(princeton::ColumnOrder::default())),
     }
 }
 
@@ -61,7 +61,12 @@ pub fn parse(text: &str, format: Format) -> Result<LoadedSystem, ParseError> {
 }
 
 /// Writes discs in `format` (the course format needs equal radii and the box lengths).
-pub fn write(out: &mut impl std::io::Write, discs: &[Disc], sim_box: &SimBox, format: Format) -> std::io::Result<()> {
+pub fn write(
+    out: &mut impl std::io::Write,
+    discs: &[Disc],
+    sim_box: &SimBox,
+    format: Format,
+) -> std::io::Result<()> {
     match format {
         Format::Course => course::write(out, discs, sim_box),
         Format::Princeton(order) => princeton::write(out, discs, order),

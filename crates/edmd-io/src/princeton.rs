@@ -39,7 +39,10 @@ pub fn parse(text: &str, order: ColumnOrder) -> Result<LoadedSystem, ParseError>
     for k in 0..n {
         let (line, f) = lines.expect_fields(&format!("disc {} of {n}", k + 1))?;
         if f.len() != 9 {
-            return Err(err(line, format!("expected 9 fields ({}), found {}", names.join(" "), f.len())));
+            return Err(err(
+                line,
+                format!("expected 9 fields ({}), found {}", names.join(" "), f.len()),
+            ));
         }
         let mut x = [0.0; 6];
         for c in 0..6 {
@@ -48,7 +51,14 @@ pub fn parse(text: &str, order: ColumnOrder) -> Result<LoadedSystem, ParseError>
         let mut colour = [0u8; 3];
         for c in 0..3 {
             colour[c] = f[6 + c].parse::<u8>().map_err(|_| {
-                err(line, format!("colour {} must be a whole number from 0 to 255, found '{}'", names[6 + c], f[6 + c]))
+                err(
+                    line,
+                    format!(
+                        "colour {} must be a whole number from 0 to 255, found '{}'",
+                        names[6 + c],
+                        f[6 + c]
+                    ),
+                )
             })?;
         }
         let (radius, mass) = (x[ir], x[im]);
@@ -69,11 +79,20 @@ pub fn parse(text: &str, order: ColumnOrder) -> Result<LoadedSystem, ParseError>
         at.push(line);
     }
     expect_end(&mut lines, n)?;
-    Ok(LoadedSystem { discs, sim_box: SimBox::unit(), lines: at, format: Format::Princeton(order) })
+    Ok(LoadedSystem {
+        discs,
+        sim_box: SimBox::unit(),
+        lines: at,
+        format: Format::Princeton(order),
+    })
 }
 
 /// Writes discs in the Princeton format, numbers in their shortest exact form.
-pub fn write(out: &mut impl std::io::Write, discs: &[Disc], order: ColumnOrder) -> std::io::Result<()> {
+pub fn write(
+    out: &mut impl std::io::Write,
+    discs: &[Disc],
+    order: ColumnOrder,
+) -> std::io::Result<()> {
     writeln!(out, "{}", discs.len())?;
     for d in discs {
         let (a, b) = match order {
@@ -119,7 +138,12 @@ mod tests {
         let s = parse(TWO, ColumnOrder::MassRadius).unwrap();
         let mut out = Vec::new();
         write(&mut out, &s.discs, ColumnOrder::MassRadius).unwrap();
-        assert_eq!(parse(std::str::from_utf8(&out).unwrap(), ColumnOrder::MassRadius).unwrap().discs, s.discs);
+        assert_eq!(
+            parse(std::str::from_utf8(&out).unwrap(), ColumnOrder::MassRadius)
+                .unwrap()
+                .discs,
+            s.discs
+        );
     }
 
     #[test]
@@ -131,7 +155,11 @@ mod tests {
             ("1\n.1 .3 .01 0 -1 1 50 50 50\n", 2, "radius must be > 0"),
             ("1\n.1 .3 .01 0 .05 0 50 50 50\n", 2, "mass must be > 0"),
             ("1\n.1 .3 .01 zz .05 1 50 50 50\n", 2, "vy is not a number"),
-            ("3\n.1 .3 .01 0 .05 1 50 50 50\n", 2, "file ends before disc 2 of 3"),
+            (
+                "3\n.1 .3 .01 0 .05 1 50 50 50\n",
+                2,
+                "file ends before disc 2 of 3",
+            ),
         ];
         for (text, line, what) in cases {
             let e = parse(text, ColumnOrder::default()).unwrap_err();

@@ -28,7 +28,10 @@ pub(crate) struct Lines<'a> {
 
 impl<'a> Lines<'a> {
     pub fn new(text: &'a str) -> Self {
-        Lines { inner: text.lines().enumerate(), last: 0 }
+        Lines {
+            inner: text.lines().enumerate(),
+            last: 0,
+        }
     }
 
     /// The next non-blank line as `(number, fields)`.
@@ -54,23 +57,41 @@ impl<'a> Lines<'a> {
 }
 
 pub(crate) fn err(line: usize, message: impl Into<String>) -> ParseError {
-    ParseError { line, message: message.into() }
+    ParseError {
+        line,
+        message: message.into(),
+    }
 }
 
 /// Checks that a line has exactly `names.len()` fields and parses them as finite numbers.
-pub(crate) fn numbers(line: usize, fields: &[&str], names: &[&str]) -> Result<Vec<f64>, ParseError> {
+pub(crate) fn numbers(
+    line: usize,
+    fields: &[&str],
+    names: &[&str],
+) -> Result<Vec<f64>, ParseError> {
     if fields.len() != names.len() {
         return Err(err(
             line,
-            format!("expected {} numbers ({}), found {}", names.len(), names.join(" "), fields.len()),
+            format!(
+                "expected {} numbers ({}), found {}",
+                names.len(),
+                names.join(" "),
+                fields.len()
+            ),
         ));
     }
-    fields.iter().zip(names).map(|(f, name)| number(line, f, name)).collect()
+    fields
+        .iter()
+        .zip(names)
+        .map(|(f, name)| number(line, f, name))
+        .collect()
 }
 
 /// One finite number.
 pub(crate) fn number(line: usize, field: &str, name: &str) -> Result<f64, ParseError> {
-    let x: f64 = field.parse().map_err(|_| err(line, format!("{name} is not a number: '{field}'")))?;
+    let x: f64 = field
+        .parse()
+        .map_err(|_| err(line, format!("{name} is not a number: '{field}'")))?;
     if !x.is_finite() {
         return Err(err(line, format!("{name} is not finite: '{field}'")));
     }
@@ -79,18 +100,36 @@ pub(crate) fn number(line: usize, field: &str, name: &str) -> Result<f64, ParseE
 
 /// The disc count on a line of its own.
 pub(crate) fn count(lines: &mut Lines) -> Result<usize, ParseError> {
-    let (line, f) = lines.next_fields().ok_or_else(|| err(1, "the file is empty"))?;
+    let (line, f) = lines
+        .next_fields()
+        .ok_or_else(|| err(1, "the file is empty"))?;
     if f.len() != 1 {
-        return Err(err(line, format!("expected the number of discs alone, found {} fields", f.len())));
+        return Err(err(
+            line,
+            format!(
+                "expected the number of discs alone, found {} fields",
+                f.len()
+            ),
+        ));
     }
-    f[0].parse::<usize>()
-        .map_err(|_| err(line, format!("the number of discs must be a whole number >= 0, found '{}'", f[0])))
+    f[0].parse::<usize>().map_err(|_| {
+        err(
+            line,
+            format!(
+                "the number of discs must be a whole number >= 0, found '{}'",
+                f[0]
+            ),
+        )
+    })
 }
 
 /// After the last disc: only blank lines may follow.
 pub(crate) fn expect_end(lines: &mut Lines, n: usize) -> Result<(), ParseError> {
     match lines.next_fields() {
-        Some((line, _)) => Err(err(line, format!("more disc lines than the {n} announced on the first line"))),
+        Some((line, _)) => Err(err(
+            line,
+            format!("more disc lines than the {n} announced on the first line"),
+        )),
         None => Ok(()),
     }
 }

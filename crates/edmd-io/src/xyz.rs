@@ -12,9 +12,16 @@ use edmd_core::{Disc, SimBox, DIM};
 const SYMBOLS: [&str; 10] = ["H", "He", "Li", "Be", "B", "C", "N", "O", "F", "Ne"];
 
 /// Writes one frame.
-pub fn write_frame(out: &mut impl std::io::Write, discs: &[Disc], sim_box: &SimBox, time: f64) -> std::io::Result<()> {
+pub fn write_frame(
+    out: &mut impl std::io::Write,
+    discs: &[Disc],
+    sim_box: &SimBox,
+    time: f64,
+) -> std::io::Result<()> {
     let l = sim_box.lengths;
-    let pbc: Vec<&str> = (0..DIM).map(|a| if sim_box.is_periodic(a) { "T" } else { "F" }).collect();
+    let pbc: Vec<&str> = (0..DIM)
+        .map(|a| if sim_box.is_periodic(a) { "T" } else { "F" })
+        .collect();
     writeln!(out, "{}", discs.len())?;
     writeln!(
         out,
@@ -55,6 +62,9 @@ mod tests {
         assert_eq!(lines[0], "1");
         assert!(lines[1].starts_with("Lattice=\"2 0.0 0.0 0.0 3 0.0 0.0 0.0 1.0\""));
         assert!(lines[1].contains("Time=1.5 pbc=\"T T F\""));
-        assert_eq!(lines[2], "H 0.5 0.25 0.0 1.0 0.0 0.0 0.1 1.0 0.0000 0.0000 0.0000");
+        assert_eq!(
+            lines[2],
+            "H 0.5 0.25 0.0 1.0 0.0 0.0 0.1 1.0 0.0000 0.0000 0.0000"
+        );
     }
 }

@@ -65,7 +65,8 @@ pub fn run(args: &BenchArgs) -> Result<()> {
     let seconds = started.elapsed().as_secs_f64();
     let after = sim.stats();
     let collisions = after.disc_disc - before.disc_disc;
-    let events = (after.disc_disc + after.wall + after.cell_crossing) - (before.disc_disc + before.wall + before.cell_crossing);
+    let events = (after.disc_disc + after.wall + after.cell_crossing)
+        - (before.disc_disc + before.wall + before.cell_crossing);
     let g = sim.grid_dims();
     let result = BenchResult {
         n: args.n,

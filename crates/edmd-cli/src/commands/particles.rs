@@ -21,21 +21,31 @@ pub struct ParticlesArgs {
     /// Input file in the course format (N, R, Lx Ly, then x y u v per disc).
     pub file: String,
     /// End time.
-    #[arg(value_parser = parse_time)]
+    #[arg(value_parser = parse_time, allow_negative_numbers = true)]
     pub end_time: f64,
 }
 
 /// Runs the course program, writing its lines to `out`.
 pub fn run(args: &ParticlesArgs, out: &mut impl Write) -> Result<()> {
     let text = read_text(&args.file)?;
-    let sys = load(&args.file, &text, Some(Format::Course))?;
-    let mut sim = build(&args.file, &sys, Options { rule: CollisionRule::Swap, overlaps: OverlapPolicy::Refuse })?;
+    let sys = load(&args.file, &text, Some(Format::Course), Default::default())?;
+    let mut sim = build(
+        &args.file,
+        &sys,
+        Options {
+            rule: CollisionRule::Swap,
+            overlaps: OverlapPolicy::Refuse,
+        },
+    )?;
     let mut counter = CollisionCounter::new(sim.len());
     sim.run_until(args.end_time, &mut counter);
     let mut buf = String::with_capacity(48 * sim.len());
     for i in 0..sim.len() {
         let p = sim.position(i);
-        buf += &format!("{:.6}, {:.6}, {}, {}\n", p[0], p[1], counter.wall[i], counter.disc[i]);
+        buf += &format!(
+            "{:.6}, {:.6}, {}, {}\n",
+            p[0], p[1], counter.wall[i], counter.disc[i]
+        );
     }
     out.write_all(buf.as_bytes())?;
     out.flush()?;

@@ -5,7 +5,9 @@ use std::path::Path;
 use std::time::Instant;
 
 use anyhow::Result;
-use edmd_core::{CollisionRule, Observer, Options, OverlapPolicy, Simulation, Stats, OVERLAP_TOLERANCE};
+use edmd_core::{
+    CollisionRule, Observer, Options, OverlapPolicy, Simulation, Stats, OVERLAP_TOLERANCE,
+};
 use edmd_io::princeton::ColumnOrder;
 use edmd_io::Format;
 use serde::Serialize;
@@ -58,19 +60,22 @@ pub fn run(args: &RunArgs) -> Result<()> {
         FormatArg::Course => Some(Format::Course),
         FormatArg::Princeton => Some(Format::Princeton(order)),
     };
-    let mut sys = load(&args.file, &text, format)?;
-    if let Format::Princeton(_) = sys.format {
-        sys.format = Format::Princeton(order);
-    }
+    let sys = load(&args.file, &text, format, order)?;
     let rule = match args.rule {
         RuleArg::Elastic => CollisionRule::Elastic,
         RuleArg::Swap => CollisionRule::Swap,
     };
-    let overlaps = if args.allow_overlaps { OverlapPolicy::Allow } else { OverlapPolicy::Refuse };
+    let overlaps = if args.allow_overlaps {
+        OverlapPolicy::Allow
+    } else {
+        OverlapPolicy::Refuse
+    };
     let mut sim = build(&args.file, &sys, Options { rule, overlaps })?;
     if let (Some(path), Some(_)) = (&args.output, &args.trajectory) {
         if Path::new(path) == args.trajectory.as_deref().unwrap() {
-            return user_error(format!("{path}: --output and --trajectory name the same file"));
+            return user_error(format!(
+                "{path}: --output and --trajectory name the same file"
+            ));
         }
     }
     // Create outputs before the run so that an unwritable path fails at once, not after it.
@@ -127,7 +132,11 @@ pub fn run(args: &RunArgs) -> Result<()> {
         cell_crossings: stats.cell_crossing,
         stale_events: stats.stale,
         seconds,
-        collisions_per_second: if seconds > 0.0 { stats.disc_disc as f64 / seconds } else { 0.0 },
+        collisions_per_second: if seconds > 0.0 {
+            stats.disc_disc as f64 / seconds
+        } else {
+            0.0
+        },
         relative_energy_change: if e0 > 0.0 { (e1 - e0) / e0 } else { 0.0 },
         discs_moved_into_box: sim.adjusted_discs(),
         frames,
@@ -145,7 +154,11 @@ pub fn run(args: &RunArgs) -> Result<()> {
         edmd_io::write(&mut out, &discs, sim.sim_box(), sys.format)?;
         out.flush()?;
     }
-    let text = if args.json { serde_json::to_string(&summary)? } else { human(&summary) };
+    let text = if args.json {
+        serde_json::to_string(&summary)?
+    } else {
+        human(&summary)
+    };
     if to_stdout {
         eprintln!("{text}");
     } else {
@@ -178,7 +191,12 @@ fn human(s: &Summary) -> String {
     t
 }
 
-fn run_to<O: Observer>(sim: &mut Simulation, t: f64, progress: &Option<indicatif::ProgressBar>, obs: &mut O) {
+fn run_to<O: Observer>(
+    sim: &mut Simulation,
+    t: f64,
+    progress: &Option<indicatif::ProgressBar>,
+    obs: &mut O,
+) {
     match progress {
         None => sim.run_until(t, obs),
         Some(pb) => {
@@ -202,8 +220,10 @@ fn progress_bar(until: f64) -> Option<indicatif::ProgressBar> {
     let pb = indicatif::ProgressBar::new(1000);
     pb.set_message(format!("{until:?}"));
     pb.set_style(
-        indicatif::ProgressStyle::with_template("{bar:40} {percent:>3}% of simulated time, {elapsed} elapsed, eta {eta}")
-            .expect("valid template"),
+        indicatif::ProgressStyle::with_template(
+            "{bar:40} {percent:>3}% of simulated time, {elapsed} elapsed, eta {eta}",
+        )
+        .expect("valid template"),
     );
     Some(pb)
 }
@@ -212,11 +232,17 @@ fn progress_bar(until: f64) -> Option<indicatif::ProgressBar> {
 pub fn check(sim: &Simulation) -> Result<()> {
     let o = sim.overlaps(OVERLAP_TOLERANCE);
     if let Some((i, j, ov)) = o.first {
-        anyhow::bail!("check failed: discs {i} and {j} overlap by {ov:.3e} ({} pairs)", o.count);
+        anyhow::bail!(
+            "check failed: discs {i} and {j} overlap by {ov:.3e} ({} pairs)",
+            o.count
+        );
     }
     let out = sim.discs_outside(OVERLAP_TOLERANCE);
     if let Some(i) = out.first() {
-        anyhow::bail!("check failed: disc {i} is outside the box ({} discs)", out.len());
+        anyhow::bail!(
+            "check failed: disc {i} is outside the box ({} discs)",
+            out.len()
+        );
     }
     Ok(())
 }

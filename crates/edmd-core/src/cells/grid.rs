@@ -56,18 +56,26 @@ impl CellGrid {
             let mut d = ((l / target).floor() as u64).clamp(1, max_cells);
             if periodic[a] {
                 if max_cells < 3 {
-                    return Err(Error::PeriodicBoxTooSmall { axis: a, length: l, min: 3.0 * max_diameter });
+                    return Err(Error::PeriodicBoxTooSmall {
+                        axis: a,
+                        length: l,
+                        min: 3.0 * max_diameter,
+                    });
                 }
                 d = d.max(3);
             }
             dims[a] = d as u32;
             width[a] = l / d as f64;
             stride[a] = total;
-            total = total.checked_mul(d as usize).ok_or_else(|| Error::Invalid("too many cells".into()))?;
+            total = total
+                .checked_mul(d as usize)
+                .ok_or_else(|| Error::Invalid("too many cells".into()))?;
         }
         let offsets = neighbour_offsets();
-        let linear_offsets =
-            offsets.iter().map(|o| (0..DIM).map(|a| o[a] as isize * stride[a] as isize).sum()).collect();
+        let linear_offsets = offsets
+            .iter()
+            .map(|o| (0..DIM).map(|a| o[a] as isize * stride[a] as isize).sum())
+            .collect();
         Ok(CellGrid {
             dims,
             width,
@@ -93,7 +101,11 @@ impl CellGrid {
         let mut c = [0u32; DIM];
         for a in 0..DIM {
             let k = (p[a] / self.width[a]).floor();
-            c[a] = if k < 0.0 { 0 } else { (k as u64).min(self.dims[a] as u64 - 1) as u32 };
+            c[a] = if k < 0.0 {
+                0
+            } else {
+                (k as u64).min(self.dims[a] as u64 - 1) as u32
+            };
         }
         c
     }
@@ -158,7 +170,11 @@ impl CellGrid {
                 continue;
             }
             let lo = c[a] as f64 * self.width[a];
-            let hi = if c[a] + 1 == d { self.lengths[a] } else { (c[a] + 1) as f64 * self.width[a] };
+            let hi = if c[a] + 1 == d {
+                self.lengths[a]
+            } else {
+                (c[a] + 1) as f64 * self.width[a]
+            };
             if let Some((dt, side)) = interval_exit(p[a], v[a], lo, hi) {
                 let leaves_box = match side {
                     Side::Low => c[a] == 0,
@@ -284,7 +300,7 @@ mod tests {
         g.insert(1, [2, 0]);
         let mut seen = vec![];
         g.for_each_near([0, 0], |j, s| seen.push((j, s)));
-        seen.sort_by(|a, b| a.0.cmp(&b.0));
+        seen.sort_by_key(|a| a.0);
         assert_eq!(seen, vec![(0, Vector::ZERO), (1, Vector::new([-3.0, 0.0]))]);
     }
 
@@ -340,6 +356,9 @@ mod tests {
     #[test]
     fn small_periodic_box_is_refused() {
         let b = SimBox::periodic([2.5, 10.0]);
-        assert!(matches!(CellGrid::new(&b, 4, 1.0), Err(Error::PeriodicBoxTooSmall { axis: 0, .. })));
+        assert!(matches!(
+            CellGrid::new(&b, 4, 1.0),
+            Err(Error::PeriodicBoxTooSmall { axis: 0, .. })
+        ));
     }
 }

@@ -43,7 +43,13 @@ mod tests {
 
     #[test]
     fn past_the_end_exits_now() {
-        assert_eq!(interval_exit(9.0 + 1e-15, 1.0, 1.0, 9.0), Some((0.0, Side::High)));
-        assert_eq!(interval_exit(1.0 - 1e-15, -1.0, 1.0, 9.0), Some((0.0, Side::Low)));
+        assert_eq!(
+            interval_exit(9.0 + 1e-15, 1.0, 1.0, 9.0),
+            Some((0.0, Side::High))
+        );
+        assert_eq!(
+            interval_exit(1.0 - 1e-15, -1.0, 1.0, 9.0),
+            Some((0.0, Side::Low))
+        );
     }
 }

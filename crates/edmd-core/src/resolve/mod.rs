@@ -35,10 +35,18 @@ impl CollisionRule {
         match self {
             CollisionRule::Elastic => {
                 let impulse = elastic::impulse(dr, vj - vi, mi, mj);
-                PairOutcome { vi: vi + impulse / mi, vj: vj - impulse / mj, impulse }
+                PairOutcome {
+                    vi: vi + impulse / mi,
+                    vj: vj - impulse / mj,
+                    impulse,
+                }
             }
             // Assigned, not computed from the impulse, so the exchange is exact to the bit.
-            CollisionRule::Swap => PairOutcome { vi: vj, vj: vi, impulse: swap::impulse(vi, vj, mi) },
+            CollisionRule::Swap => PairOutcome {
+                vi: vj,
+                vj: vi,
+                impulse: swap::impulse(vi, vj, mi),
+            },
         }
     }
 }

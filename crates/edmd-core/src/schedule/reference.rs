@@ -11,7 +11,9 @@ pub struct ReferenceQueue {
 
 impl EventQueue for ReferenceQueue {
     fn with_len(n: usize) -> Self {
-        ReferenceQueue { keys: vec![f64::INFINITY; n] }
+        ReferenceQueue {
+            keys: vec![f64::INFINITY; n],
+        }
     }
 
     fn set(&mut self, i: usize, t: f64) {
@@ -41,7 +43,10 @@ mod tests {
 
     fn op() -> impl Strategy<Value = (usize, f64)> {
         // Times from a small set so that ties are common; inf included.
-        (0usize..64, prop_oneof![(0u8..8).prop_map(|k| k as f64 * 0.5), Just(f64::INFINITY)])
+        (
+            0usize..64,
+            prop_oneof![(0u8..8).prop_map(|k| k as f64 * 0.5), Just(f64::INFINITY)],
+        )
     }
 
     proptest! {

@@ -32,7 +32,13 @@ impl TournamentQueue {
 impl EventQueue for TournamentQueue {
     fn with_len(n: usize) -> Self {
         let m = n.max(2).next_power_of_two();
-        let mut nodes = vec![Node { time: f64::INFINITY, disc: 0 }; 2 * m];
+        let mut nodes = vec![
+            Node {
+                time: f64::INFINITY,
+                disc: 0
+            };
+            2 * m
+        ];
         for i in 0..m {
             nodes[m + i].disc = i as u32;
         }

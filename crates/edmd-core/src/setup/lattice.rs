@@ -17,12 +17,21 @@ pub const CLOSE_PACKING: f64 = 0.906_899_682_117_108_9;
 
 /// `n` equal discs (diameter 1, mass 1) on a triangular lattice filling a near-square box at
 /// packing fraction `packing`, with Gaussian velocities at `kT = 1`, zero total momentum.
-pub fn lattice_fluid(n: usize, packing: f64, boundary: Boundary, seed: u64) -> Result<(Vec<Disc>, SimBox), Error> {
+pub fn lattice_fluid(
+    n: usize,
+    packing: f64,
+    boundary: Boundary,
+    seed: u64,
+) -> Result<(Vec<Disc>, SimBox), Error> {
     if n == 0 {
-        return Err(Error::Invalid("the number of discs must be at least 1".into()));
+        return Err(Error::Invalid(
+            "the number of discs must be at least 1".into(),
+        ));
     }
     if !(packing > 0.0 && packing < CLOSE_PACKING) {
-        return Err(Error::Invalid(format!("packing fraction {packing} is outside (0, {CLOSE_PACKING:.4})")));
+        return Err(Error::Invalid(format!(
+            "packing fraction {packing} is outside (0, {CLOSE_PACKING:.4})"
+        )));
     }
     let r = 0.5;
     let h = 3f64.sqrt() / 2.0;
@@ -45,7 +54,10 @@ pub fn lattice_fluid(n: usize, packing: f64, boundary: Boundary, seed: u64) -> R
         )));
     }
     let lengths = [wx * a, wy * a];
-    let sim_box = SimBox { lengths, boundaries: [boundary; DIM] };
+    let sim_box = SimBox {
+        lengths,
+        boundaries: [boundary; DIM],
+    };
     let mut rng = Pcg64Mcg::seed_from_u64(seed);
     let mut discs = Vec::with_capacity(n);
     'fill: for row in 0..rows {
@@ -109,7 +121,10 @@ mod tests {
             for &phi in &[0.1, 0.6, 0.85] {
                 let (discs, bx) = lattice_fluid(1000, phi, b, 1).unwrap();
                 assert_eq!(discs.len(), 1000);
-                let area: f64 = discs.iter().map(|d| std::f64::consts::PI * d.radius * d.radius).sum();
+                let area: f64 = discs
+                    .iter()
+                    .map(|d| std::f64::consts::PI * d.radius * d.radius)
+                    .sum();
                 assert!((area / bx.volume() - phi).abs() < 1e-12);
                 let sim = crate::Simulation::new(&discs, bx, Default::default()).unwrap();
                 assert_eq!(sim.overlaps(1e-9).count, 0);

@@ -25,7 +25,14 @@ pub struct Disc {
 impl Disc {
     /// A disc of unit mass, black, species 0.
     pub fn new(pos: Vector, vel: Vector, radius: f64) -> Self {
-        Disc { pos, vel, mass: 1.0, radius, colour: [0, 0, 0], species: 0 }
+        Disc {
+            pos,
+            vel,
+            mass: 1.0,
+            radius,
+            colour: [0, 0, 0],
+            species: 0,
+        }
     }
 
     /// Kinetic energy `m v^2 / 2`.

@@ -23,12 +23,18 @@ pub struct SimBox {
 impl SimBox {
     /// A box with walls on every axis.
     pub fn walls(lengths: [f64; DIM]) -> Self {
-        SimBox { lengths, boundaries: [Boundary::Walls; DIM] }
+        SimBox {
+            lengths,
+            boundaries: [Boundary::Walls; DIM],
+        }
     }
 
     /// A fully periodic box.
     pub fn periodic(lengths: [f64; DIM]) -> Self {
-        SimBox { lengths, boundaries: [Boundary::Periodic; DIM] }
+        SimBox {
+            lengths,
+            boundaries: [Boundary::Periodic; DIM],
+        }
     }
 
     /// The unit box with walls (the Princeton assignment's container).

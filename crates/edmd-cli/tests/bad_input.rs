@@ -1,0 +1,215 @@
+//! Every malformed input: one line on standard error naming the file and line, exit status 2,
+//! no panic, no output file.
+
+use crate::support::{run, write};
+
+/// Runs `edmd run FILE --until 1 --output OUT` on `text` and checks the refusal.
+fn refused(text: &str, expect: &str) {
+    let dir = tempfile::tempdir().unwrap();
+    let f = write(&dir, "bad.txt", text);
+    let out_path = dir.path().join("out.txt");
+    let out = run(
+        "edmd",
+        &[
+            "run",
+            &f,
+            "--until",
+            "1",
+            "--output",
+            out_path.to_str().unwrap(),
+        ],
+        None,
+    );
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{text:?}: {err}");
+    assert_eq!(err.lines().count(), 1, "{text:?}: {err}");
+    assert!(
+        err.contains(expect),
+        "{text:?}: expected {expect:?} in {err}"
+    );
+    assert!(!err.contains("panicked"));
+    assert!(out.stdout.is_empty());
+    let left: Vec<_> = std::fs::read_dir(dir.path())
+        .unwrap()
+        .map(|e| e.unwrap().file_name())
+        .collect();
+    assert_eq!(
+        left.len(),
+        1,
+        "output or temporary files left behind: {left:?}"
+    );
+}
+
+#[test]
+fn malformed_princeton_files() {
+    let ok = "0.5 0.5 0.01 0 0.05 1 1 2 3";
+    refused("", "bad.txt:1: the file is empty");
+    refused("\n\n  \n", "bad.txt:1: the file is empty");
+    refused("two\n", "bad.txt:1:");
+    refused(
+        &format!("2\n{ok}\n"),
+        "bad.txt:2: file ends before disc 2 of 2",
+    );
+    refused(&format!("1\n{ok}\n{ok}\n"), "bad.txt:3: more disc lines");
+    refused(
+        "1\n0.5 0.5 0.01 0 0.05 1 1 2\n",
+        "bad.txt:2: expected 9 fields",
+    );
+    refused(
+        "1\n0.5 half 0.01 0 0.05 1 1 2 3\n",
+        "bad.txt:2: ry is not a number: 'half'",
+    );
+    refused(
+        "1\n0.5 0.5 NaN 0 0.05 1 1 2 3\n",
+        "bad.txt:2: vx is not finite",
+    );
+    refused(
+        "1\n0.5 0.5 0 inf 0.05 1 1 2 3\n",
+        "bad.txt:2: vy is not finite",
+    );
+    refused(
+        "1\n0.5 0.5 0 0 0 1 1 2 3\n",
+        "bad.txt:2: radius must be > 0",
+    );
+    refused(
+        "1\n0.5 0.5 0 0 0.05 -1 1 2 3\n",
+        "bad.txt:2: mass must be > 0",
+    );
+    refused("1\n0.5 0.5 0 0 0.05 1 1 2 300\n", "bad.txt:2: colour b");
+    refused(
+        &format!("2\n{ok}\n1.2 0.5 0 0 0.05 1 1 2 3\n"),
+        "bad.txt:3: this disc is not inside the box",
+    );
+    refused(
+        &format!("2\n{ok}\n0.52 0.5 0 0 0.05 1 1 2 3\n"),
+        "bad.txt:3: this disc overlaps the disc on line 2",
+    );
+    refused(
+        "1\n0.5 0.5 0 0 0.7 1 1 2 3\n",
+        "bad.txt:2: diameter 1.4 does not fit",
+    );
+    refused("1\n1 2 3\n", "bad.txt:2: expected 9 fields");
+}
+
+#[test]
+fn malformed_course_files() {
+    refused(
+        "1\n1\n10\n",
+        "bad.txt:3: expected 2 numbers (Lx Ly), found 1",
+    );
+    refused("1\n-1\n10 10\n5 5 1 1\n", "bad.txt:2: radius must be > 0");
+    refused("1\n1\n10 10\n5 5 1\n", "bad.txt:4: expected 4 numbers");
+    refused(
+        "2\n1\n10 10\n5 5 1 1\n5.5 5 1 1\n",
+        "bad.txt:5: this disc overlaps the disc on line 4",
+    );
+    refused(
+        "1\n1\n10 10\n0.5 5 1 1\n",
+        "bad.txt:4: this disc is not inside the box",
+    );
+}
+
+#[test]
+fn unreadable_inputs() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path().to_str().unwrap();
+    for args in [
+        vec!["run", d, "--until", "1"],
+        vec!["run", "/no/such/file.txt", "--until", "1"],
+    ] {
+        let out = run("edmd", &args, None);
+        assert_eq!(out.status.code(), Some(2));
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(
+            err.contains("cannot read") && err.lines().count() == 1,
+            "{err}"
+        );
+    }
+    let bin = dir.path().join("bin.txt");
+    std::fs::write(&bin, [0xff, 0xfe, 0x00, 0x41]).unwrap();
+    let out = run(
+        "edmd",
+        &["run", bin.to_str().unwrap(), "--until", "1"],
+        None,
+    );
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("not a text file"));
+}
+
+#[test]
+fn bad_options_are_one_line_and_exit_2() {
+    let dir = tempfile::tempdir().unwrap();
+    let f = write(&dir, "ok.txt", "1\n0.5 0.5 0.01 0 0.05 1 1 2 3\n");
+    let cases: Vec<(Vec<&str>, &str)> = vec![
+        (vec!["run", &f], "--until"),
+        (vec!["run", &f, "--until", "-3"], ">= 0"),
+        (vec!["run", &f, "--until", "soon"], "not a number"),
+        (vec!["run", &f, "--until", "nan"], "finite"),
+        (
+            vec!["run", &f, "--until", "1", "--rule", "sticky"],
+            "sticky",
+        ),
+        (
+            vec!["run", &f, "--until", "1", "--trajectory", "t.xyz"],
+            "--every",
+        ),
+        (
+            vec![
+                "run",
+                &f,
+                "--until",
+                "1",
+                "--trajectory",
+                "t.xyz",
+                "--every",
+                "0",
+            ],
+            "> 0",
+        ),
+        (
+            vec![
+                "run",
+                &f,
+                "--until",
+                "1",
+                "--output",
+                "/no/such/dir/out.txt",
+            ],
+            "cannot create",
+        ),
+        (vec!["bench", "--n", "-5", "--packing", "0.5"], "-5"),
+        (vec!["bench", "--n", "0", "--packing", "0.5"], ">= 1"),
+        (vec!["frobnicate"], "frobnicate"),
+    ];
+    for (args, expect) in cases {
+        let out = run("edmd", &args, None);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{args:?}: {err}");
+        assert_eq!(err.lines().count(), 1, "{args:?}: {err}");
+        assert!(err.contains(expect), "{args:?}: {err}");
+    }
+}
+
+#[test]
+fn particles_refuses_bad_arguments_and_files() {
+    let dir = tempfile::tempdir().unwrap();
+    let f = write(&dir, "ok.txt", "1\n1\n10 10\n5 5 1 1\n");
+    let bad = write(&dir, "bad.txt", "1\n1\n10 10\n5 5 x 1\n");
+    let p = write(&dir, "p.txt", "1\n0.5 0.5 0.01 0 0.05 1 1 2 3\n");
+    let cases: Vec<(Vec<&str>, &str)> = vec![
+        (vec![&f], "END_TIME"),
+        (vec![&f, "-1"], ">= 0"),
+        (vec![&f, "x"], "not a number"),
+        (vec![&bad, "1"], "bad.txt:4: u is not a number: 'x'"),
+        (vec![&p, "1"], "p.txt:2: expected the radius alone"),
+        (vec!["/no/such/file", "1"], "cannot read"),
+    ];
+    for (args, expect) in cases {
+        let out = run("particles", &args, None);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{args:?}: {err}");
+        assert_eq!(err.lines().count(), 1, "{args:?}: {err}");
+        assert!(err.contains(expect), "{args:?}: {err}");
+        assert!(out.stdout.is_empty(), "partial output for {args:?}");
+    }
+}

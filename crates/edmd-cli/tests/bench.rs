@@ -1,0 +1,62 @@
+//! `edmd bench` prints one JSON line with the promised fields (speed itself is recorded in
+//! BENCHMARKS.md, never asserted).
+
+use crate::support::{ok_stdout, run};
+
+#[test]
+fn bench_prints_one_json_line() {
+    let out = run(
+        "edmd",
+        &[
+            "bench",
+            "--n",
+            "400",
+            "--packing",
+            "0.6",
+            "--melt",
+            "2",
+            "--collisions",
+            "2",
+        ],
+        None,
+    );
+    let text = ok_stdout(&out);
+    assert_eq!(text.lines().count(), 1);
+    let v: serde_json::Value = serde_json::from_str(&text).unwrap();
+    for key in [
+        "n",
+        "packing",
+        "collisions",
+        "seconds",
+        "collisions_per_second",
+    ] {
+        assert!(v.get(key).is_some(), "missing {key}");
+    }
+    assert!(v["collisions"].as_u64().unwrap() >= 800);
+    assert!(v["relative_energy_change"].as_f64().unwrap().abs() < 1e-12);
+    let walls = run(
+        "edmd",
+        &[
+            "bench",
+            "--n",
+            "400",
+            "--packing",
+            "0.3",
+            "--boundary",
+            "walls",
+            "--melt",
+            "1",
+            "--collisions",
+            "1",
+        ],
+        None,
+    );
+    ok_stdout(&walls);
+}
+
+#[test]
+fn impossible_packing_is_a_clear_error() {
+    let out = run("edmd", &["bench", "--n", "400", "--packing", "0.95"], None);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("packing fraction 0.95"));
+}

@@ -1,0 +1,324 @@
+//! `edmd run` on real files: all 25 Princeton data files, the course format, chaining, stdin.
+
+use serde_json::Value;
+
+use crate::support::{example, ok_stdout, run, shared, write};
+
+fn summary(out: &std::process::Output) -> Value {
+    serde_json::from_str(ok_stdout(out).trim()).expect("one JSON object")
+}
+
+#[test]
+fn all_princeton_data_files_load_and_run() {
+    let dir = shared("algs4");
+    let mut names: Vec<String> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    names.sort();
+    assert_eq!(names.len(), 25);
+    for name in names {
+        let path = dir.join(&name);
+        let p = path.to_str().unwrap();
+        let refused = name == "diffusion3.txt" || name == "billiards-overflow.txt";
+        let out = run(
+            "edmd",
+            &["run", p, "--until", "200", "--json", "--check"],
+            None,
+        );
+        if refused {
+            assert_eq!(out.status.code(), Some(2), "{name} should be refused");
+            let err = String::from_utf8_lossy(&out.stderr);
+            assert_eq!(err.lines().count(), 1, "{err}");
+            assert!(err.contains("--allow-overlaps"), "{err}");
+            let out = run(
+                "edmd",
+                &["run", p, "--until", "200", "--json", "--allow-overlaps"],
+                None,
+            );
+            let s = summary(&out);
+            assert!(
+                s["relative_energy_change"].as_f64().unwrap().abs() < 1e-12,
+                "{name}: {s}"
+            );
+        } else {
+            let s = summary(&out);
+            assert!(
+                s["relative_energy_change"].as_f64().unwrap().abs() < 1e-12,
+                "{name}: {s}"
+            );
+            assert_eq!(
+                s["n"].as_u64().unwrap() as usize,
+                std::fs::read_to_string(&path)
+                    .unwrap()
+                    .trim()
+                    .lines()
+                    .next()
+                    .unwrap()
+                    .trim()
+                    .parse::<usize>()
+                    .unwrap()
+            );
+        }
+    }
+}
+
+#[test]
+fn refusals_name_the_first_offending_line_and_the_count() {
+    let out = run(
+        "edmd",
+        &[
+            "run",
+            shared("algs4/diffusion3.txt").to_str().unwrap(),
+            "--until",
+            "1",
+        ],
+        None,
+    );
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("diffusion3.txt:12:")
+            && err.contains("line 11")
+            && err.contains("90 overlapping pair"),
+        "{err}"
+    );
+    let out = run(
+        "edmd",
+        &[
+            "run",
+            shared("algs4/billiards-overflow.txt").to_str().unwrap(),
+            "--until",
+            "1",
+        ],
+        None,
+    );
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("billiards-overflow.txt:5:") && err.contains("2 such disc"),
+        "{err}"
+    );
+}
+
+#[test]
+fn rounding_level_contacts_in_real_files_are_accepted() {
+    // brownian.txt, brownian2.txt and diffusion.txt have pairs touching with overlaps ~2e-16.
+    for name in ["brownian.txt", "brownian2.txt", "diffusion.txt"] {
+        let out = run(
+            "edmd",
+            &[
+                "run",
+                shared(&format!("algs4/{name}")).to_str().unwrap(),
+                "--until",
+                "1",
+            ],
+            None,
+        );
+        assert!(
+            out.status.success(),
+            "{name}: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+    }
+}
+
+#[test]
+fn output_is_written_in_the_input_format_and_chains() {
+    let dir = tempfile::tempdir().unwrap();
+    let cradle = example("newton-cradle.txt");
+    let a = dir.path().join("a.txt");
+    let b = dir.path().join("b.txt");
+    let direct = dir.path().join("direct.txt");
+    let c = cradle.to_str().unwrap();
+    ok_stdout(&run(
+        "edmd",
+        &["run", c, "--until", "4", "--output", a.to_str().unwrap()],
+        None,
+    ));
+    ok_stdout(&run(
+        "edmd",
+        &[
+            "run",
+            a.to_str().unwrap(),
+            "--until",
+            "3",
+            "--output",
+            b.to_str().unwrap(),
+        ],
+        None,
+    ));
+    ok_stdout(&run(
+        "edmd",
+        &[
+            "run",
+            c,
+            "--until",
+            "7",
+            "--output",
+            direct.to_str().unwrap(),
+        ],
+        None,
+    ));
+    let read = |p: &std::path::Path| -> Vec<Vec<f64>> {
+        std::fs::read_to_string(p)
+            .unwrap()
+            .lines()
+            .skip(1)
+            .map(|l| l.split_whitespace().map(|x| x.parse().unwrap()).collect())
+            .collect()
+    };
+    let (chained, straight) = (read(&b), read(&direct));
+    assert_eq!(chained.len(), 5);
+    for (x, y) in chained.iter().zip(&straight) {
+        assert_eq!(x.len(), 9);
+        for k in 0..9 {
+            assert!((x[k] - y[k]).abs() < 1e-12, "{x:?} vs {y:?}");
+        }
+    }
+    // The striker's momentum went down the line: the last disc moves, the first has stopped.
+    assert!(
+        straight[4][2] > 0.0 && straight[0][2] == 0.0,
+        "{straight:?}"
+    );
+}
+
+#[test]
+fn course_format_is_detected_and_written_back() {
+    let dir = tempfile::tempdir().unwrap();
+    let out_path = dir.path().join("out.txt");
+    let input = shared("assignment/normal.txt");
+    let out = run(
+        "edmd",
+        &[
+            "run",
+            input.to_str().unwrap(),
+            "--until",
+            "20",
+            "--rule",
+            "swap",
+            "--output",
+            out_path.to_str().unwrap(),
+        ],
+        None,
+    );
+    ok_stdout(&out);
+    let text = std::fs::read_to_string(&out_path).unwrap();
+    let lines: Vec<&str> = text.lines().collect();
+    assert_eq!(&lines[..3], &["5", "1.0", "15.1 13.2"]);
+    // Same final positions as the course program's expected output.
+    let expected = std::fs::read_to_string(shared("assignment/normal_T20_expected.txt")).unwrap();
+    for (l, e) in lines[3..].iter().zip(expected.lines()) {
+        let x: Vec<f64> = l.split_whitespace().map(|v| v.parse().unwrap()).collect();
+        assert_eq!(
+            format!("{:.6}, {:.6}", x[0], x[1]),
+            e.rsplitn(3, ", ").nth(2).unwrap()
+        );
+    }
+}
+
+#[test]
+fn standard_input_and_output() {
+    let text = std::fs::read_to_string(example("course-7.txt")).unwrap();
+    let out = run(
+        "edmd",
+        &["run", "-", "--until", "5", "--output", "-"],
+        Some(&text),
+    );
+    let stdout = ok_stdout(&out);
+    assert_eq!(stdout.lines().count(), 3 + 7);
+    // With the state on standard output, the summary goes to standard error.
+    assert!(String::from_utf8_lossy(&out.stderr).contains("simulated to t = 5"));
+}
+
+#[test]
+fn same_input_same_output_and_quiet_stderr() {
+    let dir = tempfile::tempdir().unwrap();
+    let gas = example("gas-300.txt");
+    let mut outs = vec![];
+    for k in 0..2 {
+        let o = dir.path().join(format!("o{k}.txt"));
+        let out = run(
+            "edmd",
+            &[
+                "run",
+                gas.to_str().unwrap(),
+                "--until",
+                "100",
+                "--output",
+                o.to_str().unwrap(),
+            ],
+            None,
+        );
+        ok_stdout(&out);
+        // Not a terminal: no progress bar, nothing on standard error.
+        assert!(
+            out.stderr.is_empty(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        outs.push(std::fs::read(&o).unwrap());
+    }
+    assert_eq!(outs[0], outs[1]);
+}
+
+#[test]
+fn mass_first_column_order_is_selectable() {
+    let dir = tempfile::tempdir().unwrap();
+    // As mass-radius: mass 0.02, radius 10 would not fit the unit box; as radius-mass it runs.
+    let f = write(&dir, "p.txt", "1\n0.5 0.5 0.01 0 0.02 10 1 2 3\n");
+    assert!(run("edmd", &["run", &f, "--until", "1"], None)
+        .status
+        .success());
+    let out = run(
+        "edmd",
+        &["run", &f, "--until", "1", "--columns", "mass-radius"],
+        None,
+    );
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("p.txt:2:"));
+    let f = write(&dir, "q.txt", "1\n0.5 0.5 0.01 0 10 0.02 1 2 3\n");
+    let o = dir.path().join("o.txt");
+    ok_stdout(&run(
+        "edmd",
+        &[
+            "run",
+            &f,
+            "--until",
+            "1",
+            "--columns",
+            "mass-radius",
+            "-o",
+            o.to_str().unwrap(),
+        ],
+        None,
+    ));
+    assert!(std::fs::read_to_string(&o)
+        .unwrap()
+        .contains(" 10.0 0.02 1 2 3"));
+}
+
+#[test]
+fn json_summary_has_the_promised_fields() {
+    let out = run(
+        "edmd",
+        &[
+            "run",
+            example("brownian-demo.txt").to_str().unwrap(),
+            "--until",
+            "20",
+            "--json",
+        ],
+        None,
+    );
+    let s = summary(&out);
+    for key in [
+        "disc_collisions",
+        "wall_collisions",
+        "cell_crossings",
+        "collisions_per_second",
+        "relative_energy_change",
+        "seconds",
+    ] {
+        assert!(s.get(key).is_some(), "missing {key}: {s}");
+    }
+    assert!(s["disc_collisions"].as_u64().unwrap() > 100);
+}

@@ -1,0 +1,68 @@
+//! Running the programs and finding the shared data.
+
+use std::path::PathBuf;
+use std::process::{Command, Output, Stdio};
+
+/// Path of a file under `../shared/data/` (beside the repository), which tests read in place.
+pub fn shared(rel: &str) -> PathBuf {
+    let p = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("../../../shared/data")
+        .join(rel);
+    assert!(
+        p.exists(),
+        "shared data file {} is missing (shared/ must sit beside the repository)",
+        p.display()
+    );
+    p
+}
+
+/// Path of one of the project's own example files.
+pub fn example(name: &str) -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("../../examples/data")
+        .join(name)
+}
+
+/// Runs a program with arguments (and optional standard input).
+pub fn run(program: &str, args: &[&str], stdin: Option<&str>) -> Output {
+    let exe = match program {
+        "edmd" => env!("CARGO_BIN_EXE_edmd"),
+        "particles" => env!("CARGO_BIN_EXE_particles"),
+        _ => unreachable!(),
+    };
+    let mut cmd = Command::new(exe);
+    cmd.args(args).stdin(if stdin.is_some() {
+        Stdio::piped()
+    } else {
+        Stdio::null()
+    });
+    cmd.stdout(Stdio::piped()).stderr(Stdio::piped());
+    let mut child = cmd.spawn().expect("program starts");
+    if let Some(text) = stdin {
+        use std::io::Write;
+        child
+            .stdin
+            .take()
+            .unwrap()
+            .write_all(text.as_bytes())
+            .unwrap();
+    }
+    child.wait_with_output().unwrap()
+}
+
+/// Standard output as text, asserting success.
+pub fn ok_stdout(out: &Output) -> String {
+    assert!(
+        out.status.success(),
+        "failed: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    String::from_utf8(out.stdout.clone()).unwrap()
+}
+
+/// Writes `text` to a file in `dir` and returns its path as a string.
+pub fn write(dir: &tempfile::TempDir, name: &str, text: &str) -> String {
+    let p = dir.path().join(name);
+    std::fs::write(&p, text).unwrap();
+    p.to_string_lossy().into_owned()
+}

@@ -1,0 +1,9 @@
+//! End-to-end tests of the `edmd` and `particles` programs, compiled as one binary.
+
+mod support;
+
+mod bad_input;
+mod bench;
+mod particles;
+mod run;
+mod trajectory;
