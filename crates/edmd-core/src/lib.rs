@@ -25,6 +25,7 @@ pub mod cells;
 pub mod error;
 pub mod events;
 pub mod math;
+pub mod measure;
 pub mod observer;
 pub mod predict;
 pub mod resolve;

@@ -5,3 +5,4 @@ mod support;
 mod exact_cases;
 mod invariants;
 mod naive_reference;
+mod physics;

@@ -1,0 +1,1 @@
+//! Measurements: observers that any run can attach (being written).

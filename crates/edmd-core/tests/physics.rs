@@ -1,0 +1,1 @@
+//! Physics checked against physics: kinetic theory and the hard-disc equation of state.
