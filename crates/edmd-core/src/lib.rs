@@ -40,4 +40,4 @@ pub use math::{Vector, DIM};
 pub use observer::{CollisionCounter, Observer};
 pub use resolve::CollisionRule;
 pub use simulation::{Options, OverlapPolicy, OverlapReport, Simulation, Stats, OVERLAP_TOLERANCE};
-pub use state::{Boundary, Colour, Disc, SimBox};
+pub use state::{Barrier, Boundary, Colour, Demon, Disc, SimBox, System};

@@ -1,7 +1,20 @@
 //! The system's state as the user describes it: discs and the box.
 
+pub mod barrier;
 pub mod disc;
 pub mod sim_box;
 
+pub use barrier::{Barrier, Demon};
 pub use disc::{Colour, Disc};
 pub use sim_box::{Boundary, SimBox};
+
+/// A complete system description: discs, the box, and any internal barriers.
+#[derive(Clone, Debug, PartialEq)]
+pub struct System {
+    /// The discs.
+    pub discs: Vec<Disc>,
+    /// The box.
+    pub sim_box: SimBox,
+    /// Internal barriers (walls across the box, possibly with doors).
+    pub barriers: Vec<Barrier>,
+}
