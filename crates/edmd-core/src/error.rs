@@ -65,6 +65,14 @@ pub enum Error {
         /// Disc 0's mass.
         mass0: f64,
     },
+    /// A disc cuts into an internal barrier.
+    #[error("disc {disc} cuts into barrier {barrier}")]
+    BarrierOverlap {
+        /// The disc.
+        disc: usize,
+        /// The barrier.
+        barrier: usize,
+    },
     /// A requested value is out of range (generators, options).
     #[error("{0}")]
     Invalid(String),

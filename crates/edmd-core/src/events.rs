@@ -29,6 +29,15 @@ pub enum EventKind {
         /// The wall.
         wall: Wall,
     },
+    /// Disc `i` met internal barrier `barrier`.
+    Barrier {
+        /// The disc.
+        i: usize,
+        /// Index of the barrier.
+        barrier: usize,
+        /// What happened there.
+        hit: BarrierHit,
+    },
     /// Disc `i` moved into a neighbouring cell (bookkeeping; no velocity change).
     CellCrossing {
         /// The disc.
@@ -38,6 +47,19 @@ pub enum EventKind {
         /// Direction.
         side: Side,
     },
+}
+
+/// What happened at a barrier.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum BarrierHit {
+    /// Bounced off the solid face.
+    Face,
+    /// Bounced off a door edge.
+    Edge,
+    /// Reached the doorway and the demon let it through (no velocity change).
+    DoorPassed,
+    /// Reached the doorway and the demon shut the door on it (bounced).
+    DoorShut,
 }
 
 /// One processed event. The simulation's state has already been updated when observers see it.
@@ -62,4 +84,6 @@ pub(crate) enum Pending {
     Wall { axis: u8, side: Side },
     /// Cell crossing.
     Cell { axis: u8, side: Side },
+    /// Barrier `index`: face (`part` 0), door edge lo/hi (1, 2), or the doorway's demon (3).
+    Barrier { index: u16, part: u8 },
 }

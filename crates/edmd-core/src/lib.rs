@@ -35,9 +35,9 @@ pub mod simulation;
 pub mod state;
 
 pub use error::Error;
-pub use events::{EventKind, EventRecord, Side, Wall};
+pub use events::{BarrierHit, EventKind, EventRecord, Side, Wall};
 pub use math::{Vector, DIM};
 pub use observer::{CollisionCounter, Observer};
 pub use resolve::CollisionRule;
-pub use simulation::{Options, OverlapPolicy, OverlapReport, Simulation, Stats, OVERLAP_TOLERANCE};
+pub use simulation::{Options, OverlapPolicy, OverlapReport, Simulation, Stats, MAX_BARRIERS, OVERLAP_TOLERANCE};
 pub use state::{Barrier, Boundary, Colour, Demon, Disc, SimBox, System};

@@ -75,6 +75,11 @@ impl Observer for CollisionCounter {
                 self.disc[j] += 1;
             }
             EventKind::Wall { i, .. } => self.wall[i] += 1,
+            EventKind::Barrier { i, hit, .. } => {
+                if hit != crate::events::BarrierHit::DoorPassed {
+                    self.wall[i] += 1;
+                }
+            }
             EventKind::CellCrossing { .. } => {}
         }
     }

@@ -25,13 +25,15 @@
 
 use crate::cells::CellGrid;
 use crate::error::Error;
-use crate::events::{EventKind, EventRecord, Pending, Side, Wall};
+use crate::events::{BarrierHit, EventKind, EventRecord, Pending, Side, Wall};
 use crate::math::{Vector, DIM};
 use crate::observer::Observer;
+use crate::predict::barrier::{across, time_to_barrier, time_to_doorway, Contact};
 use crate::predict::{contact_time_or_inf, interval_exit};
-use crate::resolve::{wall::reflect, CollisionRule};
+use crate::resolve::wall::{reflect, reflect_normal};
+use crate::resolve::CollisionRule;
 use crate::schedule::{EventQueue, TournamentQueue};
-use crate::state::{Colour, Disc, SimBox};
+use crate::state::{Barrier, Colour, Disc, SimBox, System};
 
 /// Relative tolerance on overlaps and wall penetration: discs closer than
 /// `sigma (1 - OVERLAP_TOLERANCE)` overlap. Input files written with rounded coordinates touch
@@ -71,6 +73,8 @@ pub struct Stats {
     pub cell_crossing: u64,
     /// Stale events discarded (partner changed course after the prediction).
     pub stale: u64,
+    /// Events at internal barriers (bounces and demon decisions).
+    pub barrier: u64,
 }
 
 /// Everything the event loop reads or writes for one disc, in one 64-byte cache line: its
@@ -122,11 +126,31 @@ pub struct Simulation {
     now: f64,
     stats: Stats,
     adjusted: usize,
+    /// Internal walls.
+    barriers: Vec<Barrier>,
+    /// Per disc, bit `k` set when the disc is on the low side of barrier `k` (demon doors
+    /// decide by the side a disc comes from). Empty without barriers.
+    below: Vec<u8>,
+    /// Mean of `m v^2` over the discs, the demon's yardstick (constant: energy is conserved).
+    mean_mv2: f64,
 }
+
+/// The most internal barriers a simulation takes.
+pub const MAX_BARRIERS: usize = 8;
 
 impl Simulation {
     /// Builds and validates a simulation at time 0.
     pub fn new(discs: &[Disc], sim_box: SimBox, options: Options) -> Result<Self, Error> {
+        Self::with_barriers(discs, sim_box, &[], options)
+    }
+
+    /// Builds and validates a simulation of a [`System`] (discs, box and barriers) at time 0.
+    pub fn from_system(system: &System, options: Options) -> Result<Self, Error> {
+        Self::with_barriers(&system.discs, system.sim_box, &system.barriers, options)
+    }
+
+    /// Builds and validates a simulation with internal barriers at time 0.
+    pub fn with_barriers(discs: &[Disc], sim_box: SimBox, barriers: &[Barrier], options: Options) -> Result<Self, Error> {
         if discs.len() >= u32::MAX as usize {
             return Err(Error::Invalid(format!("too many discs ({})", discs.len())));
         }
@@ -205,9 +229,19 @@ impl Simulation {
             now: 0.0,
             stats: Stats::default(),
             adjusted,
+            barriers: Vec::new(),
+            below: Vec::new(),
+            mean_mv2: 0.0,
         };
+        validate_barriers(barriers, &sim.sim_box)?;
+        sim.barriers = barriers.to_vec();
+        sim.below = vec![0; if barriers.is_empty() { 0 } else { n }];
+        sim.mean_mv2 = if n > 0 { 4.0 * sim.kinetic_energy() / n as f64 } else { 0.0 };
         sim.file_all_in_grid();
         if options.overlaps == OverlapPolicy::Refuse {
+            if let Some((disc, barrier)) = sim.barrier_overlap() {
+                return Err(Error::BarrierOverlap { disc, barrier });
+            }
             let report = sim.overlaps(OVERLAP_TOLERANCE);
             if let Some((i, j, overlap)) = report.first {
                 return Err(Error::Overlap {
@@ -232,8 +266,64 @@ impl Simulation {
 
     fn schedule_all(&mut self) {
         for i in 0..self.body.len() {
+            if !self.below.is_empty() {
+                let p = self.body[i].position_at(self.event_time);
+                self.below[i] = self.barriers.iter().enumerate().fold(0u8, |m, (k, b)| m | (((p[b.axis] < b.position) as u8) << k));
+            }
             self.predict(i);
         }
+    }
+
+    /// The internal barriers.
+    pub fn barriers(&self) -> &[Barrier] {
+        &self.barriers
+    }
+
+    /// Replaces the internal barriers at the current time (removing a partition, opening a
+    /// door) and schedules everything again. Fails, changing nothing, if a barrier is invalid
+    /// or cuts through a disc.
+    pub fn set_barriers(&mut self, barriers: &[Barrier]) -> Result<(), Error> {
+        validate_barriers(barriers, &self.sim_box)?;
+        let old = std::mem::replace(&mut self.barriers, barriers.to_vec());
+        let now = self.now;
+        for b in &mut self.body {
+            b.advance_to(now);
+        }
+        if let Some((disc, barrier)) = self.barrier_overlap() {
+            self.barriers = old;
+            return Err(Error::BarrierOverlap { disc, barrier });
+        }
+        self.below = vec![0; if barriers.is_empty() { 0 } else { self.len() }];
+        self.event_time = now;
+        self.schedule_all();
+        Ok(())
+    }
+
+    /// The first (disc, barrier) pair where a disc cuts into a barrier (beyond
+    /// [`OVERLAP_TOLERANCE`]) at the current time, if any.
+    pub fn barrier_overlap(&self) -> Option<(usize, usize)> {
+        for (i, b) in self.body.iter().enumerate() {
+            let p = b.position_at(self.now);
+            let tol = OVERLAP_TOLERANCE * b.radius;
+            for (k, w) in self.barriers.iter().enumerate() {
+                let d = (p[w.axis] - w.position).abs();
+                if d >= b.radius - tol {
+                    continue;
+                }
+                let y = p[across(w.axis)];
+                let cuts = match w.door {
+                    None => true,
+                    Some((lo, hi)) => {
+                        let edge = |e: f64| ((y - e).powi(2) + d * d).sqrt() < b.radius - tol;
+                        y <= lo || y >= hi || edge(lo) || edge(hi)
+                    }
+                };
+                if cuts {
+                    return Some((i, k));
+                }
+            }
+        }
+        None
     }
 
     /// Number of discs.
@@ -407,6 +497,7 @@ impl Simulation {
                 Pending::Disc { partner, .. } => self.collide(i, partner as usize, t),
                 Pending::Wall { axis, side } => self.bounce(i, axis as usize, side, t),
                 Pending::Cell { axis, side } => self.cross(i, axis as usize, side, t),
+                Pending::Barrier { index, part } => self.meet_barrier(i, index as usize, part, t),
                 Pending::Nothing => unreachable!("finite time with nothing pending"),
             };
             return Some(record);
@@ -476,6 +567,47 @@ impl Simulation {
         }
     }
 
+    fn meet_barrier(&mut self, i: usize, k: usize, part: u8, t: f64) -> EventRecord {
+        let w = self.barriers[k];
+        let m = self.mass[i];
+        self.body[i].advance_to(t);
+        let b = &mut self.body[i];
+        let (hit, impulse) = match part {
+            0 => {
+                // Exactly at contact, on the side the disc is on.
+                b.pos[w.axis] = if b.pos[w.axis] < w.position { w.position - b.radius } else { w.position + b.radius };
+                (BarrierHit::Face, reflect(&mut b.vel, w.axis, m))
+            }
+            1 | 2 => {
+                let (lo, hi) = w.door.expect("edges belong to doors");
+                let mut q = Vector::ZERO;
+                q[w.axis] = w.position;
+                q[across(w.axis)] = if part == 1 { lo } else { hi };
+                let d = b.pos - q;
+                let n = d / d.norm2().sqrt();
+                (BarrierHit::Edge, reflect_normal(&mut b.vel, n, m))
+            }
+            _ => {
+                let demon = w.demon.expect("doorway events belong to demons");
+                let below = self.below[i] & (1 << k) != 0;
+                let mv2 = m * b.vel.norm2();
+                let pass = if below { mv2 >= demon.fast * self.mean_mv2 } else { mv2 <= demon.slow * self.mean_mv2 };
+                if pass {
+                    self.below[i] ^= 1 << k;
+                    (BarrierHit::DoorPassed, Vector::ZERO)
+                } else {
+                    (BarrierHit::DoorShut, reflect(&mut b.vel, w.axis, m))
+                }
+            }
+        };
+        if hit != BarrierHit::DoorPassed {
+            b.count = b.count.wrapping_add(1);
+        }
+        self.stats.barrier += 1;
+        self.predict(i);
+        EventRecord { time: t, kind: EventKind::Barrier { i, barrier: k, hit }, impulse }
+    }
+
     fn cross(&mut self, i: usize, axis: usize, side: Side, t: f64) -> EventRecord {
         self.body[i].advance_to(t);
         let wrap = self.grid.cross(i, axis, side);
@@ -522,6 +654,27 @@ impl Simulation {
                         axis: a as u8,
                         side,
                     };
+                }
+            }
+        }
+        for (k, w) in self.barriers.iter().enumerate() {
+            if let Some((dt, c)) = time_to_barrier(bi.pos, bi.vel, bi.radius, w.axis, w.position, w.door) {
+                if t0 + dt < best_t {
+                    best_t = t0 + dt;
+                    let part = match c {
+                        Contact::Face => 0,
+                        Contact::Edge(e) => 1 + e,
+                    };
+                    best = Pending::Barrier { index: k as u16, part };
+                }
+            }
+            if let (Some(door), Some(_)) = (w.door, w.demon) {
+                let below = self.below[i] & (1 << k) != 0;
+                if let Some(dt) = time_to_doorway(bi.pos, bi.vel, w.axis, w.position, door, below) {
+                    if t0 + dt < best_t {
+                        best_t = t0 + dt;
+                        best = Pending::Barrier { index: k as u16, part: 3 };
+                    }
                 }
             }
         }
@@ -624,6 +777,39 @@ pub struct OverlapReport {
     pub count: usize,
     /// The pair completed earliest in input order, `(i, j, (sigma - d)/sigma)` with `i < j`.
     pub first: Option<(usize, usize, f64)>,
+}
+
+fn validate_barriers(barriers: &[Barrier], sim_box: &SimBox) -> Result<(), Error> {
+    if barriers.len() > MAX_BARRIERS {
+        return Err(Error::Invalid(format!("at most {MAX_BARRIERS} barriers, got {}", barriers.len())));
+    }
+    for (k, w) in barriers.iter().enumerate() {
+        let bad = |what: String| Err(Error::Invalid(format!("barrier {k}: {what}")));
+        if w.axis >= DIM {
+            return bad(format!("axis {} does not exist", w.axis));
+        }
+        if (0..DIM).any(|a| sim_box.is_periodic(a)) {
+            return bad("barriers need walls on every axis (periodic boxes are not supported)".into());
+        }
+        let (l, lb) = (sim_box.lengths[w.axis], sim_box.lengths[across(w.axis)]);
+        if !(w.position > 0.0 && w.position < l) {
+            return bad(format!("position {} is not inside the box (0, {l})", w.position));
+        }
+        if let Some((lo, hi)) = w.door {
+            if !(lo.is_finite() && hi.is_finite() && lo >= 0.0 && lo < hi && hi <= lb) {
+                return bad(format!("door ({lo}, {hi}) is not an opening within (0, {lb})"));
+            }
+        }
+        if let Some(d) = w.demon {
+            if w.door.is_none() {
+                return bad("a demon needs a door".into());
+            }
+            if !(d.fast.is_finite() && d.fast >= 0.0 && d.slow.is_finite() && d.slow >= 0.0) {
+                return bad(format!("demon thresholds must be finite and >= 0, got {} and {}", d.fast, d.slow));
+            }
+        }
+    }
+    Ok(())
 }
 
 fn validate_discs(discs: &[Disc], sim_box: &SimBox) -> Result<(), Error> {

@@ -47,7 +47,7 @@ impl Observer for Watchdog {
                 self.last_partner[i] = Some((j, e.time));
                 self.last_partner[j] = Some((i, e.time));
             }
-            EventKind::Wall { i, .. } => self.last_partner[i] = None,
+            EventKind::Wall { i, .. } | EventKind::Barrier { i, .. } => self.last_partner[i] = None,
             EventKind::CellCrossing { .. } => {}
         }
     }

@@ -3,6 +3,7 @@
 //! Every kernel returns `None` for "never" (no sentinel times) and a non-negative `Some(dt)`
 //! otherwise, so an event time `now + dt` can never lie in the past.
 
+pub mod barrier;
 pub mod disc_disc;
 pub mod interval;
 

@@ -11,6 +11,16 @@ pub fn reflect(v: &mut Vector, axis: usize, mass: f64) -> Vector {
     impulse
 }
 
+/// Reflects `v` from a surface with unit normal `n` (a door edge seen from the disc); returns
+/// the impulse given to the disc. Only the normal component changes sign.
+#[inline(always)]
+pub fn reflect_normal(v: &mut Vector, n: Vector, mass: f64) -> Vector {
+    let vn = v.dot(n);
+    let dv = n * (-2.0 * vn);
+    *v += dv;
+    dv * mass
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -21,5 +31,14 @@ mod tests {
         let j = reflect(&mut v, 1, 2.0);
         assert_eq!(v, Vector::new([-0.09, 0.38]));
         assert_eq!(j, Vector::new([0.0, 1.52]));
+    }
+
+    #[test]
+    fn reflection_about_a_normal_keeps_the_tangent() {
+        let s = 0.5f64.sqrt();
+        let mut v = Vector::new([1.0, 0.0]);
+        let j = reflect_normal(&mut v, Vector::new([-s, -s]), 1.0);
+        assert!((v - Vector::new([0.0, -1.0])).norm2() < 1e-30, "{v:?}");
+        assert!((j - Vector::new([-1.0, -1.0])).norm2() < 1e-30);
     }
 }
