@@ -45,7 +45,7 @@ pub fn load(
 
 /// Builds the simulation, translating engine refusals into messages naming lines.
 pub fn build(path: &str, sys: &LoadedSystem, options: Options) -> Result<Simulation> {
-    Simulation::new(&sys.discs, sys.sim_box, options).or_else(|e| {
+    Simulation::with_barriers(&sys.discs, sys.sim_box, &sys.barriers, options).or_else(|e| {
         let line = |i: usize| sys.lines.get(i).copied().unwrap_or(0);
         let msg = match e {
             EngineError::Overlap { i, j, overlap, count } => format!(
@@ -62,8 +62,25 @@ pub fn build(path: &str, sys: &LoadedSystem, options: Options) -> Result<Simulat
                 "{path}:{}: the swap rule needs equal masses, but this disc has mass {mass} and the first has {mass0}",
                 line(index)
             ),
+            EngineError::BarrierOverlap { disc, barrier } => format!(
+                "{path}:{}: this disc cuts into barrier {} (the {} '# edmd barrier' line)",
+                line(disc),
+                barrier + 1,
+                ordinal(barrier + 1)
+            ),
             other => format!("{path}: {other}"),
         };
         user_error(msg)
     })
+}
+
+/// "1st", "2nd", "3rd", "4th", ...
+fn ordinal(k: usize) -> String {
+    let suffix = match (k % 10, k % 100) {
+        (1, r) if r != 11 => "st",
+        (2, r) if r != 12 => "nd",
+        (3, r) if r != 13 => "rd",
+        _ => "th",
+    };
+    format!("{k}{suffix}")
 }

@@ -322,3 +322,64 @@ fn json_summary_has_the_promised_fields() {
     }
     assert!(s["disc_collisions"].as_u64().unwrap() > 100);
 }
+
+#[test]
+fn extended_princeton_files_with_box_barriers_and_species_chain() {
+    let dir = tempfile::tempdir().unwrap();
+    let f = write(
+        &dir,
+        "demon.txt",
+        "4\n# edmd box 2 1\n# edmd barrier x 1 door 0.3 0.7 demon 1.2 0.8\n0.5 0.5 0.01 0.001 0.05 1 255 0 0\n0.5 0.2 -0.02 0.003 0.05 1 0 0 255 1\n1.5 0.5 -0.01 0.002 0.05 1 0 255 0 1\n1.5 0.8 0.002 0.001 0.05 1 0 255 0\n",
+    );
+    let o = dir.path().join("o.txt");
+    let out = run(
+        "edmd",
+        &[
+            "run",
+            &f,
+            "--until",
+            "500",
+            "--output",
+            o.to_str().unwrap(),
+            "--check",
+            "--json",
+        ],
+        None,
+    );
+    let s = summary(&out);
+    assert!(s["barrier_events"].as_u64().unwrap() > 0, "{s}");
+    let text = std::fs::read_to_string(&o).unwrap();
+    assert!(
+        text.contains("# edmd box 2.0 1.0")
+            && text.contains("# edmd barrier x 1.0 door 0.3 0.7 demon 1.2 0.8"),
+        "{text}"
+    );
+    // Species survive the round trip, and the written file runs again.
+    assert_eq!(
+        text.lines().filter(|l| l.ends_with(" 1")).count(),
+        2,
+        "{text}"
+    );
+    ok_stdout(&run(
+        "edmd",
+        &["run", o.to_str().unwrap(), "--until", "10"],
+        None,
+    ));
+}
+
+#[test]
+fn a_disc_cutting_a_barrier_is_refused_with_its_line() {
+    let dir = tempfile::tempdir().unwrap();
+    let f = write(
+        &dir,
+        "cut.txt",
+        "1\n# edmd barrier x 0.5\n0.5 0.5 0 0 0.1 1 1 1 1\n",
+    );
+    let out = run("edmd", &["run", &f, "--until", "1"], None);
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("cut.txt:3: this disc cuts into barrier 1"),
+        "{err}"
+    );
+}

@@ -150,7 +150,12 @@ impl Simulation {
     }
 
     /// Builds and validates a simulation with internal barriers at time 0.
-    pub fn with_barriers(discs: &[Disc], sim_box: SimBox, barriers: &[Barrier], options: Options) -> Result<Self, Error> {
+    pub fn with_barriers(
+        discs: &[Disc],
+        sim_box: SimBox,
+        barriers: &[Barrier],
+        options: Options,
+    ) -> Result<Self, Error> {
         if discs.len() >= u32::MAX as usize {
             return Err(Error::Invalid(format!("too many discs ({})", discs.len())));
         }
@@ -236,7 +241,11 @@ impl Simulation {
         validate_barriers(barriers, &sim.sim_box)?;
         sim.barriers = barriers.to_vec();
         sim.below = vec![0; if barriers.is_empty() { 0 } else { n }];
-        sim.mean_mv2 = if n > 0 { 4.0 * sim.kinetic_energy() / n as f64 } else { 0.0 };
+        sim.mean_mv2 = if n > 0 {
+            4.0 * sim.kinetic_energy() / n as f64
+        } else {
+            0.0
+        };
         sim.file_all_in_grid();
         if options.overlaps == OverlapPolicy::Refuse {
             if let Some((disc, barrier)) = sim.barrier_overlap() {
@@ -268,7 +277,11 @@ impl Simulation {
         for i in 0..self.body.len() {
             if !self.below.is_empty() {
                 let p = self.body[i].position_at(self.event_time);
-                self.below[i] = self.barriers.iter().enumerate().fold(0u8, |m, (k, b)| m | (((p[b.axis] < b.position) as u8) << k));
+                self.below[i] = self
+                    .barriers
+                    .iter()
+                    .enumerate()
+                    .fold(0u8, |m, (k, b)| m | (((p[b.axis] < b.position) as u8) << k));
             }
             self.predict(i);
         }
@@ -575,7 +588,11 @@ impl Simulation {
         let (hit, impulse) = match part {
             0 => {
                 // Exactly at contact, on the side the disc is on.
-                b.pos[w.axis] = if b.pos[w.axis] < w.position { w.position - b.radius } else { w.position + b.radius };
+                b.pos[w.axis] = if b.pos[w.axis] < w.position {
+                    w.position - b.radius
+                } else {
+                    w.position + b.radius
+                };
                 (BarrierHit::Face, reflect(&mut b.vel, w.axis, m))
             }
             1 | 2 => {
@@ -591,7 +608,11 @@ impl Simulation {
                 let demon = w.demon.expect("doorway events belong to demons");
                 let below = self.below[i] & (1 << k) != 0;
                 let mv2 = m * b.vel.norm2();
-                let pass = if below { mv2 >= demon.fast * self.mean_mv2 } else { mv2 <= demon.slow * self.mean_mv2 };
+                let pass = if below {
+                    mv2 >= demon.fast * self.mean_mv2
+                } else {
+                    mv2 <= demon.slow * self.mean_mv2
+                };
                 if pass {
                     self.below[i] ^= 1 << k;
                     (BarrierHit::DoorPassed, Vector::ZERO)
@@ -605,7 +626,11 @@ impl Simulation {
         }
         self.stats.barrier += 1;
         self.predict(i);
-        EventRecord { time: t, kind: EventKind::Barrier { i, barrier: k, hit }, impulse }
+        EventRecord {
+            time: t,
+            kind: EventKind::Barrier { i, barrier: k, hit },
+            impulse,
+        }
     }
 
     fn cross(&mut self, i: usize, axis: usize, side: Side, t: f64) -> EventRecord {
@@ -658,14 +683,19 @@ impl Simulation {
             }
         }
         for (k, w) in self.barriers.iter().enumerate() {
-            if let Some((dt, c)) = time_to_barrier(bi.pos, bi.vel, bi.radius, w.axis, w.position, w.door) {
+            if let Some((dt, c)) =
+                time_to_barrier(bi.pos, bi.vel, bi.radius, w.axis, w.position, w.door)
+            {
                 if t0 + dt < best_t {
                     best_t = t0 + dt;
                     let part = match c {
                         Contact::Face => 0,
                         Contact::Edge(e) => 1 + e,
                     };
-                    best = Pending::Barrier { index: k as u16, part };
+                    best = Pending::Barrier {
+                        index: k as u16,
+                        part,
+                    };
                 }
             }
             if let (Some(door), Some(_)) = (w.door, w.demon) {
@@ -673,7 +703,10 @@ impl Simulation {
                 if let Some(dt) = time_to_doorway(bi.pos, bi.vel, w.axis, w.position, door, below) {
                     if t0 + dt < best_t {
                         best_t = t0 + dt;
-                        best = Pending::Barrier { index: k as u16, part: 3 };
+                        best = Pending::Barrier {
+                            index: k as u16,
+                            part: 3,
+                        };
                     }
                 }
             }
@@ -781,7 +814,10 @@ pub struct OverlapReport {
 
 fn validate_barriers(barriers: &[Barrier], sim_box: &SimBox) -> Result<(), Error> {
     if barriers.len() > MAX_BARRIERS {
-        return Err(Error::Invalid(format!("at most {MAX_BARRIERS} barriers, got {}", barriers.len())));
+        return Err(Error::Invalid(format!(
+            "at most {MAX_BARRIERS} barriers, got {}",
+            barriers.len()
+        )));
     }
     for (k, w) in barriers.iter().enumerate() {
         let bad = |what: String| Err(Error::Invalid(format!("barrier {k}: {what}")));
@@ -789,15 +825,22 @@ fn validate_barriers(barriers: &[Barrier], sim_box: &SimBox) -> Result<(), Error
             return bad(format!("axis {} does not exist", w.axis));
         }
         if (0..DIM).any(|a| sim_box.is_periodic(a)) {
-            return bad("barriers need walls on every axis (periodic boxes are not supported)".into());
+            return bad(
+                "barriers need walls on every axis (periodic boxes are not supported)".into(),
+            );
         }
         let (l, lb) = (sim_box.lengths[w.axis], sim_box.lengths[across(w.axis)]);
         if !(w.position > 0.0 && w.position < l) {
-            return bad(format!("position {} is not inside the box (0, {l})", w.position));
+            return bad(format!(
+                "position {} is not inside the box (0, {l})",
+                w.position
+            ));
         }
         if let Some((lo, hi)) = w.door {
             if !(lo.is_finite() && hi.is_finite() && lo >= 0.0 && lo < hi && hi <= lb) {
-                return bad(format!("door ({lo}, {hi}) is not an opening within (0, {lb})"));
+                return bad(format!(
+                    "door ({lo}, {hi}) is not an opening within (0, {lb})"
+                ));
             }
         }
         if let Some(d) = w.demon {
@@ -805,7 +848,10 @@ fn validate_barriers(barriers: &[Barrier], sim_box: &SimBox) -> Result<(), Error
                 return bad("a demon needs a door".into());
             }
             if !(d.fast.is_finite() && d.fast >= 0.0 && d.slow.is_finite() && d.slow >= 0.0) {
-                return bad(format!("demon thresholds must be finite and >= 0, got {} and {}", d.fast, d.slow));
+                return bad(format!(
+                    "demon thresholds must be finite and >= 0, got {} and {}",
+                    d.fast, d.slow
+                ));
             }
         }
     }

@@ -138,7 +138,8 @@ fn newtons_cradle_passes_the_momentum_down_the_line() {
 mod barriers {
     use edmd_core::setup::lattice_fluid;
     use edmd_core::{
-        Barrier, BarrierHit, Boundary, Demon, Disc, EventKind, EventRecord, Observer, Options, SimBox, Simulation, Vector,
+        Barrier, BarrierHit, Boundary, Demon, Disc, EventKind, EventRecord, Observer, Options,
+        SimBox, Simulation, Vector,
     };
 
     fn v(x: f64, y: f64) -> Vector {
@@ -150,7 +151,13 @@ mod barriers {
         // Barrier at x = 5; disc r = 1 from (2, 3) at (1, 0): touches at t = 2 (x = 4), back at
         // x = 2 at t = 4.
         let d = [Disc::new(v(2.0, 3.0), v(1.0, 0.0), 1.0)];
-        let mut sim = Simulation::with_barriers(&d, SimBox::walls([10.0, 10.0]), &[Barrier::solid(0, 5.0)], Options::default()).unwrap();
+        let mut sim = Simulation::with_barriers(
+            &d,
+            SimBox::walls([10.0, 10.0]),
+            &[Barrier::solid(0, 5.0)],
+            Options::default(),
+        )
+        .unwrap();
         sim.run_until(4.0, &mut ());
         assert_eq!(sim.stats().barrier, 1);
         assert_eq!(sim.position(0), v(2.0, 3.0));
@@ -162,14 +169,24 @@ mod barriers {
         // Door (4, 8) in a barrier at x = 5; disc r = 1 at y = 4.5 moving +x hits the edge (5, 4)
         // with the normal from the edge to the centre n = (-sqrt(0.75), 0.5).
         let d = [Disc::new(v(2.0, 4.5), v(1.0, 0.0), 1.0)];
-        let w = Barrier { axis: 0, position: 5.0, door: Some((4.0, 8.0)), demon: None };
-        let mut sim = Simulation::with_barriers(&d, SimBox::walls([10.0, 10.0]), &[w], Options::default()).unwrap();
+        let w = Barrier {
+            axis: 0,
+            position: 5.0,
+            door: Some((4.0, 8.0)),
+            demon: None,
+        };
+        let mut sim =
+            Simulation::with_barriers(&d, SimBox::walls([10.0, 10.0]), &[w], Options::default())
+                .unwrap();
         sim.run_until(3.0, &mut ());
         assert_eq!(sim.stats().barrier, 1);
         let vel = sim.velocity(0);
         let n = v(-0.75f64.sqrt(), 0.5);
         // v' = v - 2 (v.n) n with v = (1, 0): (1 - 2*0.75, 2*sqrt(0.75)*0.5) = (-0.5, sqrt(0.75)).
-        assert!((vel - v(-0.5, 0.75f64.sqrt())).norm2().sqrt() < 1e-14, "{vel:?}");
+        assert!(
+            (vel - v(-0.5, 0.75f64.sqrt())).norm2().sqrt() < 1e-14,
+            "{vel:?}"
+        );
         assert!((vel.norm2() - 1.0).abs() < 1e-15);
         // Only the normal component changed: the tangential one is kept.
         let t = v(0.5, 0.75f64.sqrt());
@@ -180,8 +197,15 @@ mod barriers {
     #[test]
     fn a_centred_disc_goes_through_an_open_door() {
         let d = [Disc::new(v(2.0, 6.0), v(1.0, 0.0), 1.0)];
-        let w = Barrier { axis: 0, position: 5.0, door: Some((4.0, 8.0)), demon: None };
-        let mut sim = Simulation::with_barriers(&d, SimBox::walls([10.0, 10.0]), &[w], Options::default()).unwrap();
+        let w = Barrier {
+            axis: 0,
+            position: 5.0,
+            door: Some((4.0, 8.0)),
+            demon: None,
+        };
+        let mut sim =
+            Simulation::with_barriers(&d, SimBox::walls([10.0, 10.0]), &[w], Options::default())
+                .unwrap();
         sim.run_until(6.0, &mut ());
         assert_eq!(sim.stats().barrier, 0);
         assert_eq!(sim.position(0), v(8.0, 6.0));
@@ -192,13 +216,22 @@ mod barriers {
         let (discs, bx) = lattice_fluid(400, 0.4, Boundary::Walls, 4).unwrap();
         let x0 = bx.lengths[0] / 2.0;
         // Keep only discs clear of the partition.
-        let discs: Vec<Disc> = discs.into_iter().filter(|d| (d.pos[0] - x0).abs() > d.radius).collect();
+        let discs: Vec<Disc> = discs
+            .into_iter()
+            .filter(|d| (d.pos[0] - x0).abs() > d.radius)
+            .collect();
         let side: Vec<bool> = discs.iter().map(|d| d.pos[0] < x0).collect();
-        let mut sim = Simulation::with_barriers(&discs, bx, &[Barrier::solid(0, x0)], Options::default()).unwrap();
+        let mut sim =
+            Simulation::with_barriers(&discs, bx, &[Barrier::solid(0, x0)], Options::default())
+                .unwrap();
         let e0 = sim.kinetic_energy();
         for k in 1..=10 {
             sim.run_until(k as f64 * 3.0, &mut ());
-            assert!(sim.barrier_overlap().is_none(), "disc cuts the partition at t = {}", sim.time());
+            assert!(
+                sim.barrier_overlap().is_none(),
+                "disc cuts the partition at t = {}",
+                sim.time()
+            );
             for (i, &s) in side.iter().enumerate() {
                 assert_eq!(sim.position(i)[0] < x0, s, "disc {i} crossed the partition");
             }
@@ -208,7 +241,11 @@ mod barriers {
         // Removing it lets them mix.
         sim.set_barriers(&[]).unwrap();
         sim.run_until(300.0, &mut ());
-        let crossed = side.iter().enumerate().filter(|&(i, &s)| (sim.position(i)[0] < x0) != s).count();
+        let crossed = side
+            .iter()
+            .enumerate()
+            .filter(|&(i, &s)| (sim.position(i)[0] < x0) != s)
+            .count();
         assert!(crossed > 20, "{crossed}");
     }
 
@@ -245,15 +282,35 @@ mod barriers {
     fn maxwells_demon_sorts_fast_from_slow() {
         let (discs, bx) = lattice_fluid(300, 0.2, Boundary::Walls, 8).unwrap();
         let x0 = bx.lengths[0] / 2.0;
-        let discs: Vec<Disc> = discs.into_iter().filter(|d| (d.pos[0] - x0).abs() > d.radius).collect();
+        let discs: Vec<Disc> = discs
+            .into_iter()
+            .filter(|d| (d.pos[0] - x0).abs() > d.radius)
+            .collect();
         let (ly, n) = (bx.lengths[1], discs.len());
-        let w = Barrier { axis: 0, position: x0, door: Some((ly / 2.0 - 5.0, ly / 2.0 + 5.0)), demon: Some(Demon { fast: 1.5, slow: 0.7 }) };
+        let w = Barrier {
+            axis: 0,
+            position: x0,
+            door: Some((ly / 2.0 - 5.0, ly / 2.0 + 5.0)),
+            demon: Some(Demon {
+                fast: 1.5,
+                slow: 0.7,
+            }),
+        };
         let mut sim = Simulation::with_barriers(&discs, bx, &[w], Options::default()).unwrap();
         let mean = 4.0 * sim.kinetic_energy() / n as f64;
-        let mut watch = DemonWatch { mean, passed: [0, 0], shut: 0 };
+        let mut watch = DemonWatch {
+            mean,
+            passed: [0, 0],
+            shut: 0,
+        };
         let e0 = sim.kinetic_energy();
         sim.run_until(1500.0, &mut watch);
-        assert!(watch.passed[0] > 5 && watch.passed[1] > 5 && watch.shut > 5, "{:?} {}", watch.passed, watch.shut);
+        assert!(
+            watch.passed[0] > 5 && watch.passed[1] > 5 && watch.shut > 5,
+            "{:?} {}",
+            watch.passed,
+            watch.shut
+        );
         assert!(((sim.kinetic_energy() - e0) / e0).abs() < 1e-12);
         // Temperature (mean kinetic energy per disc) right vs left.
         let (mut ke, mut cnt) = ([0.0; 2], [0usize; 2]);
@@ -272,11 +329,48 @@ mod barriers {
     fn invalid_barriers_are_refused() {
         let d = [Disc::new(v(5.0, 3.0), v(1.0, 0.0), 1.0)];
         let bx = SimBox::walls([10.0, 10.0]);
-        assert!(Simulation::with_barriers(&d, bx, &[Barrier::solid(0, 5.5)], Options::default()).is_err());
-        assert!(Simulation::with_barriers(&[], bx, &[Barrier::solid(0, 11.0)], Options::default()).is_err());
-        assert!(Simulation::with_barriers(&[], bx, &[Barrier { axis: 0, position: 5.0, door: Some((6.0, 4.0)), demon: None }], Options::default()).is_err());
-        let demon = Some(Demon { fast: 1.0, slow: 1.0 });
-        assert!(Simulation::with_barriers(&[], bx, &[Barrier { axis: 0, position: 5.0, door: None, demon }], Options::default()).is_err());
-        assert!(Simulation::with_barriers(&[], SimBox::periodic([10.0, 10.0]), &[Barrier::solid(0, 5.0)], Options::default()).is_err());
+        assert!(
+            Simulation::with_barriers(&d, bx, &[Barrier::solid(0, 5.5)], Options::default())
+                .is_err()
+        );
+        assert!(
+            Simulation::with_barriers(&[], bx, &[Barrier::solid(0, 11.0)], Options::default())
+                .is_err()
+        );
+        assert!(Simulation::with_barriers(
+            &[],
+            bx,
+            &[Barrier {
+                axis: 0,
+                position: 5.0,
+                door: Some((6.0, 4.0)),
+                demon: None
+            }],
+            Options::default()
+        )
+        .is_err());
+        let demon = Some(Demon {
+            fast: 1.0,
+            slow: 1.0,
+        });
+        assert!(Simulation::with_barriers(
+            &[],
+            bx,
+            &[Barrier {
+                axis: 0,
+                position: 5.0,
+                door: None,
+                demon
+            }],
+            Options::default()
+        )
+        .is_err());
+        assert!(Simulation::with_barriers(
+            &[],
+            SimBox::periodic([10.0, 10.0]),
+            &[Barrier::solid(0, 5.0)],
+            Options::default()
+        )
+        .is_err());
     }
 }

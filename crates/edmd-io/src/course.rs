@@ -32,6 +32,7 @@ impl CourseSystem {
         LoadedSystem {
             discs: self.discs,
             sim_box: SimBox::walls(self.lengths),
+            barriers: Vec::new(),
             lines: self.lines,
             format: Format::Course,
         }
@@ -79,6 +80,30 @@ pub fn parse(text: &str) -> Result<CourseSystem, ParseError> {
         discs,
         lines: at,
     })
+}
+
+/// Why a system cannot be written in the course format without losing something, if it cannot.
+pub fn fits(
+    discs: &[Disc],
+    sim_box: &SimBox,
+    barriers: &[edmd_core::Barrier],
+) -> Result<(), String> {
+    if let Some(d) = discs
+        .iter()
+        .find(|d| d.radius != discs[0].radius || d.mass != discs[0].mass)
+    {
+        return Err(format!(
+            "the course format has one radius and one mass for all discs (found {} and {})",
+            d.radius, d.mass
+        ));
+    }
+    if sim_box.boundaries != [edmd_core::Boundary::Walls; 2] {
+        return Err("the course format has walls only".into());
+    }
+    if !barriers.is_empty() {
+        return Err("the course format has no internal barriers".into());
+    }
+    Ok(())
 }
 
 /// Writes discs in the course format (the radius of the first disc is written; an empty system

@@ -16,7 +16,7 @@ pub mod xyz;
 
 pub use text::ParseError;
 
-use edmd_core::{Disc, SimBox};
+use edmd_core::{Barrier, Disc, SimBox};
 
 /// A system read from a file, with the line each disc came from.
 #[derive(Clone, Debug, PartialEq)]
@@ -25,6 +25,8 @@ pub struct LoadedSystem {
     pub discs: Vec<Disc>,
     /// The box.
     pub sim_box: SimBox,
+    /// Internal barriers (Princeton extension).
+    pub barriers: Vec<Barrier>,
     /// 1-based line number of each disc.
     pub lines: Vec<usize>,
     /// The format it was read in.
@@ -60,15 +62,17 @@ pub fn parse(text: &str, format: Format) -> Result<LoadedSystem, ParseError> {
     }
 }
 
-/// Writes discs in `format` (the course format needs equal radii and the box lengths).
+/// Writes discs in `format` (the course format keeps only the first radius, the box lengths and
+/// no barriers: check [`course::fits`] first).
 pub fn write(
     out: &mut impl std::io::Write,
     discs: &[Disc],
     sim_box: &SimBox,
+    barriers: &[Barrier],
     format: Format,
 ) -> std::io::Result<()> {
     match format {
         Format::Course => course::write(out, discs, sim_box),
-        Format::Princeton(order) => princeton::write(out, discs, order),
+        Format::Princeton(order) => princeton::write(out, discs, sim_box, barriers, order),
     }
 }

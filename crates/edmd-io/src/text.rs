@@ -19,11 +19,15 @@ impl fmt::Display for ParseError {
 
 impl std::error::Error for ParseError {}
 
-/// Non-blank lines with their 1-based numbers.
+/// Non-blank, non-comment lines with their 1-based numbers. Lines whose first non-blank
+/// character is `#` are comments; comments of the form `# edmd WORD ...` are directives and are
+/// kept, with their line numbers, in [`Lines::directives`].
 pub(crate) struct Lines<'a> {
     inner: std::iter::Enumerate<std::str::Lines<'a>>,
     /// Number of the last line seen (for end-of-file messages).
     pub last: usize,
+    /// `(line, words after "# edmd")` of every directive seen so far.
+    pub directives: Vec<(usize, Vec<&'a str>)>,
 }
 
 impl<'a> Lines<'a> {
@@ -31,17 +35,30 @@ impl<'a> Lines<'a> {
         Lines {
             inner: text.lines().enumerate(),
             last: 0,
+            directives: Vec::new(),
         }
     }
 
-    /// The next non-blank line as `(number, fields)`.
+    /// The next non-blank, non-comment line as `(number, fields)`.
     pub fn next_fields(&mut self) -> Option<(usize, Vec<&'a str>)> {
         for (k, l) in self.inner.by_ref() {
             self.last = k + 1;
             let f: Vec<&str> = l.split_whitespace().collect();
-            if !f.is_empty() {
-                return Some((k + 1, f));
+            if f.is_empty() {
+                continue;
             }
+            if f[0].starts_with('#') {
+                let words: Vec<&str> = l
+                    .trim_start()
+                    .trim_start_matches('#')
+                    .split_whitespace()
+                    .collect();
+                if words.first() == Some(&"edmd") {
+                    self.directives.push((k + 1, words[1..].to_vec()));
+                }
+                continue;
+            }
+            return Some((k + 1, f));
         }
         None
     }

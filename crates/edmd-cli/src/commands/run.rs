@@ -36,6 +36,8 @@ pub struct Summary {
     pub cell_crossings: u64,
     /// Stale predictions discarded.
     pub stale_events: u64,
+    /// Events at internal barriers.
+    pub barrier_events: u64,
     /// Wall-clock seconds spent in the event loop.
     pub seconds: f64,
     /// Disc-disc collisions per second of wall-clock time.
@@ -131,6 +133,7 @@ pub fn run(args: &RunArgs) -> Result<()> {
         wall_collisions: stats.wall,
         cell_crossings: stats.cell_crossing,
         stale_events: stats.stale,
+        barrier_events: stats.barrier,
         seconds,
         collisions_per_second: if seconds > 0.0 {
             stats.disc_disc as f64 / seconds
@@ -147,11 +150,17 @@ pub fn run(args: &RunArgs) -> Result<()> {
     }
     let to_stdout = args.output.as_deref() == Some("-");
     if let Some(mut f) = out_file.take() {
-        edmd_io::write(f.writer(), &discs, sim.sim_box(), sys.format)?;
+        edmd_io::write(
+            f.writer(),
+            &discs,
+            sim.sim_box(),
+            sim.barriers(),
+            sys.format,
+        )?;
         f.commit()?;
     } else if to_stdout {
         let mut out = std::io::stdout().lock();
-        edmd_io::write(&mut out, &discs, sim.sim_box(), sys.format)?;
+        edmd_io::write(&mut out, &discs, sim.sim_box(), sim.barriers(), sys.format)?;
         out.flush()?;
     }
     let text = if args.json {
@@ -182,6 +191,9 @@ fn human(s: &Summary) -> String {
         s.seconds,
         s.relative_energy_change
     );
+    if s.barrier_events > 0 {
+        t += &format!("\nbarriers: {} events", s.barrier_events);
+    }
     if s.discs_moved_into_box > 0 {
         t += &format!("\nmoved into the box: {} disc(s)", s.discs_moved_into_box);
     }

@@ -73,7 +73,14 @@ pub fn time_to_barrier(
 /// Time until the centre of a disc on the `below` side (`p[axis] < x0` when true) moving at `v`
 /// reaches the barrier plane, if it is then inside the door: the moment a demon decides.
 #[inline]
-pub fn time_to_doorway(p: Vector, v: Vector, axis: usize, x0: f64, door: (f64, f64), below: bool) -> Option<f64> {
+pub fn time_to_doorway(
+    p: Vector,
+    v: Vector,
+    axis: usize,
+    x0: f64,
+    door: (f64, f64),
+    below: bool,
+) -> Option<f64> {
     let toward = if below { v[axis] > 0.0 } else { v[axis] < 0.0 };
     if !toward {
         return None;
@@ -94,31 +101,55 @@ mod tests {
     #[test]
     fn solid_barrier_face() {
         // Barrier x = 5, disc r = 1 at x = 2 moving +1: face contact when x = 4, t = 2.
-        assert_eq!(time_to_barrier(v(2.0, 3.0), v(1.0, 0.5), 1.0, 0, 5.0, None), Some((2.0, Contact::Face)));
+        assert_eq!(
+            time_to_barrier(v(2.0, 3.0), v(1.0, 0.5), 1.0, 0, 5.0, None),
+            Some((2.0, Contact::Face))
+        );
         // From above, moving -2 from x = 9: contact at x = 6, t = 1.5.
-        assert_eq!(time_to_barrier(v(9.0, 3.0), v(-2.0, 0.0), 1.0, 0, 5.0, None), Some((1.5, Contact::Face)));
+        assert_eq!(
+            time_to_barrier(v(9.0, 3.0), v(-2.0, 0.0), 1.0, 0, 5.0, None),
+            Some((1.5, Contact::Face))
+        );
         // Moving away: nothing.
-        assert_eq!(time_to_barrier(v(2.0, 3.0), v(-1.0, 0.0), 1.0, 0, 5.0, None), None);
+        assert_eq!(
+            time_to_barrier(v(2.0, 3.0), v(-1.0, 0.0), 1.0, 0, 5.0, None),
+            None
+        );
     }
 
     #[test]
     fn door_lets_a_centred_disc_through_and_edges_stop_others() {
         let door = Some((4.0, 8.0));
         // Centred in a door of width 4 with r = 1: passes, touches nothing.
-        assert_eq!(time_to_barrier(v(2.0, 6.0), v(1.0, 0.0), 1.0, 0, 5.0, door), None);
+        assert_eq!(
+            time_to_barrier(v(2.0, 6.0), v(1.0, 0.0), 1.0, 0, 5.0, door),
+            None
+        );
         // At y = 4.5, moving +x: the lower edge (5, 4) is hit when (x - 5)^2 + 0.25 = 1,
         // x = 5 - sqrt(0.75), t = 3 - sqrt(0.75).
         let (t, c) = time_to_barrier(v(2.0, 4.5), v(1.0, 0.0), 1.0, 0, 5.0, door).unwrap();
         assert_eq!(c, Contact::Edge(0));
         assert!((t - (3.0 - 0.75f64.sqrt())).abs() < 1e-15);
         // At y = 3.9 the contact point at t = 2 is on the solid part: face.
-        assert_eq!(time_to_barrier(v(2.0, 3.9), v(1.0, 0.0), 1.0, 0, 5.0, door), Some((2.0, Contact::Face)));
+        assert_eq!(
+            time_to_barrier(v(2.0, 3.9), v(1.0, 0.0), 1.0, 0, 5.0, door),
+            Some((2.0, Contact::Face))
+        );
     }
 
     #[test]
     fn doorway_time_is_the_centre_crossing() {
-        assert_eq!(time_to_doorway(v(2.0, 6.0), v(1.0, 0.0), 0, 5.0, (4.0, 8.0), true), Some(3.0));
-        assert_eq!(time_to_doorway(v(2.0, 6.0), v(1.0, 0.0), 0, 5.0, (4.0, 8.0), false), None);
-        assert_eq!(time_to_doorway(v(2.0, 9.0), v(1.0, 0.0), 0, 5.0, (4.0, 8.0), true), None);
+        assert_eq!(
+            time_to_doorway(v(2.0, 6.0), v(1.0, 0.0), 0, 5.0, (4.0, 8.0), true),
+            Some(3.0)
+        );
+        assert_eq!(
+            time_to_doorway(v(2.0, 6.0), v(1.0, 0.0), 0, 5.0, (4.0, 8.0), false),
+            None
+        );
+        assert_eq!(
+            time_to_doorway(v(2.0, 9.0), v(1.0, 0.0), 0, 5.0, (4.0, 8.0), true),
+            None
+        );
     }
 }

@@ -34,6 +34,11 @@ pub struct Barrier {
 impl Barrier {
     /// A solid barrier (a partition) perpendicular to `axis` at `position`.
     pub fn solid(axis: usize, position: f64) -> Self {
-        Barrier { axis, position, door: None, demon: None }
+        Barrier {
+            axis,
+            position,
+            door: None,
+            demon: None,
+        }
     }
 }
