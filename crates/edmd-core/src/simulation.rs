@@ -54,12 +54,38 @@ pub enum OverlapPolicy {
 }
 
 /// Run parameters, validated when the simulation is built.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Options {
     /// Collision rule.
     pub rule: CollisionRule,
     /// Treatment of overlapping input.
     pub overlaps: OverlapPolicy,
+    /// Multi-disc collisions: when set, a collision involves every disc touching the pair
+    /// (see [`MultiContact`]); otherwise every collision is binary.
+    pub multi: Option<MultiContact>,
+}
+
+/// Multi-disc collisions (the Princeton assignment's extra credit, billiard breaks).
+///
+/// When two discs collide, every disc connected to them through contacts (gap at most
+/// `tolerance` times the contact distance) takes part at the same instant, resolved by
+/// [`crate::resolve::cluster`]: the impulsive limit of stiff elastic contacts with force
+/// `delta^exponent`. Clusters of two are ordinary elastic collisions. Needs the elastic rule.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct MultiContact {
+    /// Largest gap, relative to the contact distance, at which discs count as touching.
+    pub tolerance: f64,
+    /// Contact force exponent: 1.5 for elastic spheres (Hertz), 1 for linear springs.
+    pub exponent: f64,
+}
+
+impl Default for MultiContact {
+    fn default() -> Self {
+        MultiContact {
+            tolerance: 1e-3,
+            exponent: 1.5,
+        }
+    }
 }
 
 /// Counts of processed events.
@@ -133,6 +159,9 @@ pub struct Simulation {
     below: Vec<u8>,
     /// Mean of `m v^2` over the discs, the demon's yardstick (constant: energy is conserved).
     mean_mv2: f64,
+    multi: Option<MultiContact>,
+    /// The discs of the last multi-disc collision.
+    last_cluster: Vec<usize>,
 }
 
 /// The most internal barriers a simulation takes.
@@ -166,6 +195,25 @@ impl Simulation {
             }
         }
         validate_discs(discs, &sim_box)?;
+        if let Some(mc) = options.multi {
+            if !(mc.tolerance.is_finite() && mc.tolerance >= 0.0 && mc.tolerance < 0.5) {
+                return Err(Error::Invalid(format!(
+                    "multi-contact tolerance {} is outside [0, 0.5)",
+                    mc.tolerance
+                )));
+            }
+            if !(mc.exponent.is_finite() && (1.0..=3.0).contains(&mc.exponent)) {
+                return Err(Error::Invalid(format!(
+                    "multi-contact exponent {} is outside [1, 3]",
+                    mc.exponent
+                )));
+            }
+            if options.rule != CollisionRule::Elastic {
+                return Err(Error::Invalid(
+                    "multi-disc collisions need the elastic rule".into(),
+                ));
+            }
+        }
         if options.rule == CollisionRule::Swap {
             if let Some((k, d)) = discs
                 .iter()
@@ -237,6 +285,8 @@ impl Simulation {
             barriers: Vec::new(),
             below: Vec::new(),
             mean_mv2: 0.0,
+            multi: options.multi,
+            last_cluster: Vec::new(),
         };
         validate_barriers(barriers, &sim.sim_box)?;
         sim.barriers = barriers.to_vec();
@@ -534,6 +584,11 @@ impl Simulation {
     fn collide(&mut self, i: usize, j: usize, t: f64) -> EventRecord {
         self.body[i].advance_to(t);
         self.body[j].advance_to(t);
+        if let Some(mc) = self.multi {
+            if let Some(record) = self.collide_cluster(i, j, t, mc) {
+                return record;
+            }
+        }
         let dr = self
             .sim_box
             .minimum_image(self.body[j].pos - self.body[i].pos);
@@ -556,6 +611,91 @@ impl Simulation {
             kind: EventKind::DiscDisc { i, j },
             impulse: out.impulse,
         }
+    }
+
+    /// The discs of the last multi-disc collision (empty if there was none).
+    pub fn last_cluster(&self) -> &[usize] {
+        &self.last_cluster
+    }
+
+    /// Resolves the collision of `i` and `j` together with every disc touching them, if there
+    /// is any; `None` (nothing changed) for a plain pair.
+    fn collide_cluster(
+        &mut self,
+        i: usize,
+        j: usize,
+        t: f64,
+        mc: MultiContact,
+    ) -> Option<EventRecord> {
+        // Breadth-first over contacts (gap <= tolerance * sigma), positions at time t, in the
+        // frame of periodic images of the disc each one was reached from.
+        let mut members = vec![i, j];
+        let mut frame = vec![self.body[i].position_at(t), Vector::ZERO];
+        frame[1] = frame[0]
+            + self
+                .sim_box
+                .minimum_image(self.body[j].position_at(t) - frame[0]);
+        let mut contacts = Vec::new();
+        let mut k = 0;
+        while k < members.len() {
+            let a = members[k];
+            let pa = frame[k];
+            let ra = self.body[a].radius;
+            let mut found = Vec::new();
+            self.grid.for_each_near(self.grid.cell_of(a), |b, _| {
+                if b == a {
+                    return;
+                }
+                let pb = pa + self.sim_box.minimum_image(self.body[b].position_at(t) - pa);
+                let sigma = ra + self.body[b].radius;
+                if (pb - pa).norm2().sqrt() <= sigma * (1.0 + mc.tolerance) {
+                    found.push((b, pb));
+                }
+            });
+            for (b, pb) in found {
+                let kb = match members.iter().position(|&x| x == b) {
+                    Some(kb) => kb,
+                    None => {
+                        members.push(b);
+                        frame.push(pb);
+                        members.len() - 1
+                    }
+                };
+                let (lo, hi) = (k.min(kb), k.max(kb));
+                if !contacts.iter().any(|&(x, y, _)| (x, y) == (lo, hi)) {
+                    let d = frame[hi] - frame[lo];
+                    contacts.push((lo, hi, d / d.norm2().sqrt()));
+                }
+            }
+            k += 1;
+        }
+        if members.len() <= 2 {
+            return None;
+        }
+        let mut vel: Vec<Vector> = members.iter().map(|&x| self.body[x].vel).collect();
+        let mass: Vec<f64> = members.iter().map(|&x| self.mass[x]).collect();
+        let cc: Vec<crate::resolve::cluster::ClusterContact> = contacts
+            .iter()
+            .map(|&(a, b, normal)| crate::resolve::cluster::ClusterContact { a, b, normal })
+            .collect();
+        let before = self.body[i].vel;
+        crate::resolve::cluster::resolve_cluster(&mut vel, &mass, &cc, mc.exponent);
+        for (k, &x) in members.iter().enumerate() {
+            self.body[x].advance_to(t);
+            self.body[x].vel = vel[k];
+            self.body[x].count = self.body[x].count.wrapping_add(1);
+        }
+        self.stats.disc_disc += 1;
+        for &x in &members {
+            self.predict(x);
+        }
+        let impulse = (self.body[i].vel - before) * self.mass[i];
+        self.last_cluster = members;
+        Some(EventRecord {
+            time: t,
+            kind: EventKind::DiscDisc { i, j },
+            impulse,
+        })
     }
 
     fn bounce(&mut self, i: usize, axis: usize, side: Side, t: f64) -> EventRecord {

@@ -374,3 +374,79 @@ mod barriers {
         .is_err());
     }
 }
+
+mod multi_contact {
+    use edmd_core::{Disc, MultiContact, Options, SimBox, Simulation, Vector};
+
+    /// The 15-ball rack of the Princeton data file billiards5.txt (radius 0.029, spacing
+    /// 0.06: gaps of 0.002), struck dead centre by the cue ball.
+    fn rack() -> Vec<Disc> {
+        let r = 0.029;
+        let mut discs = Vec::new();
+        let h = 0.06 * 3f64.sqrt() / 2.0;
+        for row in 0..5 {
+            for k in 0..(5 - row) {
+                let x = 0.5 - 0.03 * (4 - row) as f64 + 0.06 * k as f64;
+                discs.push(Disc::new(
+                    Vector::new([x, 0.8 - h * row as f64]),
+                    Vector::ZERO,
+                    r,
+                ));
+            }
+        }
+        discs.push(Disc::new(
+            Vector::new([0.5, 0.1]),
+            Vector::new([0.0, 0.1]),
+            r,
+        ));
+        discs
+    }
+
+    /// Largest mismatch between each ball's velocity and its mirror ball's mirrored velocity.
+    fn mirror_mismatch(sim: &Simulation, discs: &[Disc]) -> f64 {
+        let mut worst: f64 = 0.0;
+        for (i, d) in discs.iter().enumerate() {
+            let j = (0..discs.len())
+                .find(|&j| {
+                    (discs[j].pos[0] - (1.0 - d.pos[0])).abs() < 1e-9
+                        && (discs[j].pos[1] - d.pos[1]).abs() < 1e-9
+                })
+                .unwrap();
+            let (vi, vj) = (sim.velocity(i), sim.velocity(j));
+            worst = worst.max((vi[0] + vj[0]).abs()).max((vi[1] - vj[1]).abs());
+        }
+        worst
+    }
+
+    #[test]
+    fn a_symmetric_rack_breaks_symmetrically() {
+        let discs = rack();
+        let options = Options {
+            multi: Some(MultiContact {
+                tolerance: 0.05,
+                exponent: 1.5,
+            }),
+            ..Default::default()
+        };
+        let mut sim = Simulation::new(&discs, SimBox::unit(), options).unwrap();
+        let e0 = sim.kinetic_energy();
+        // Just after the cue ball reaches the apex (gap 0.592 - 0.1 - 0.058 = 0.434 at 0.1/s).
+        sim.run_until(4.5, &mut ());
+        assert_eq!(sim.last_cluster().len(), 16, "the whole rack takes part");
+        assert!(((sim.kinetic_energy() - e0) / e0).abs() < 1e-12);
+        assert!(
+            mirror_mismatch(&sim, &discs) < 1e-9,
+            "{}",
+            mirror_mismatch(&sim, &discs)
+        );
+        // Binary collisions one after another break the same rack asymmetrically.
+        let mut binary = Simulation::new(&discs, SimBox::unit(), Options::default()).unwrap();
+        binary.run_until(4.5, &mut ());
+        assert!(binary.stats().disc_disc > 3);
+        assert!(
+            mirror_mismatch(&binary, &discs) > 1e-3,
+            "{}",
+            mirror_mismatch(&binary, &discs)
+        );
+    }
+}

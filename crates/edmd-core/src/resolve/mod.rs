@@ -1,5 +1,6 @@
 //! Collision resolution kernels: velocity changes at the instant of contact.
 
+pub mod cluster;
 pub mod elastic;
 pub mod swap;
 pub mod wall;
