@@ -585,6 +585,7 @@ impl Simulation {
         self.body[i].advance_to(t);
         self.body[j].advance_to(t);
         if let Some(mc) = self.multi {
+            self.last_cluster.clear();
             if let Some(record) = self.collide_cluster(i, j, t, mc) {
                 return record;
             }
@@ -613,7 +614,9 @@ impl Simulation {
         }
     }
 
-    /// The discs of the last multi-disc collision (empty if there was none).
+    /// The discs of the last collision if it involved more than two (empty after a binary
+    /// one). Observers of multi-disc runs read it on each `DiscDisc` event: the event's
+    /// impulse is that of disc `i` only.
     pub fn last_cluster(&self) -> &[usize] {
         &self.last_cluster
     }

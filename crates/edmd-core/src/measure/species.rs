@@ -1,0 +1,171 @@
+//! Composition of the two halves of the box, over time: how two species mix.
+//!
+//! The box is cut in two at `L_a / 2` along an axis (a disc belongs to the half holding its
+//! centre). For each half and species, the fraction of the half's discs that are of that
+//! species, `x_s(half) = N_s(half) / N(half)`. Two species started apart mix until each half
+//! holds the overall composition `N_s / N`.
+
+use crate::events::Side;
+use crate::simulation::Simulation;
+
+/// Counts of each species in the two halves of the box, sampled at times the caller chooses.
+#[derive(Clone, Debug)]
+pub struct SpeciesHalves {
+    axis: usize,
+    species: usize,
+    snapshots: Vec<SpeciesSnapshot>,
+}
+
+/// The counts at one time.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SpeciesSnapshot {
+    /// Time.
+    pub time: f64,
+    /// `counts[s] = [in the low half, in the high half]` for species `s`.
+    pub counts: Vec<[usize; 2]>,
+}
+
+/// Summary of a [`SpeciesHalves`] series.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SpeciesSummary {
+    /// Number of snapshots.
+    pub samples: usize,
+    /// `overall[s]`: fraction of all discs that are of species `s`.
+    pub overall: Vec<f64>,
+    /// `last[s] = [x_s(low), x_s(high)]` at the last snapshot (empty if none).
+    pub last: Vec<[f64; 2]>,
+}
+
+fn half_index(half: Side) -> usize {
+    match half {
+        Side::Low => 0,
+        Side::High => 1,
+    }
+}
+
+impl SpeciesSnapshot {
+    /// Fraction of the discs in `half` that are of `species` (`NaN` if the half is empty, 0 for
+    /// a species never seen).
+    pub fn fraction(&self, species: usize, half: Side) -> f64 {
+        let h = half_index(half);
+        let total: usize = self.counts.iter().map(|c| c[h]).sum();
+        let n = self.counts.get(species).map_or(0, |c| c[h]);
+        if total == 0 {
+            f64::NAN
+        } else {
+            n as f64 / total as f64
+        }
+    }
+}
+
+impl SpeciesHalves {
+    /// Halves along `axis`. Species are the labels `0..=max` found in the simulation.
+    ///
+    /// # Panics
+    /// If `axis` is not an axis of the box.
+    pub fn new(sim: &Simulation, axis: usize) -> Self {
+        assert!(axis < crate::math::DIM, "no axis {axis}");
+        let species = (0..sim.len()).map(|i| sim.species(i) as usize + 1).max();
+        SpeciesHalves {
+            axis,
+            species: species.unwrap_or(0),
+            snapshots: Vec::new(),
+        }
+    }
+
+    /// Records the counts now.
+    pub fn sample(&mut self, sim: &Simulation) {
+        let mid = 0.5 * sim.sim_box().lengths[self.axis];
+        let mut counts = vec![[0usize; 2]; self.species];
+        for i in 0..sim.len() {
+            let s = sim.species(i) as usize;
+            let h = (sim.position(i)[self.axis] >= mid) as usize;
+            counts[s][h] += 1;
+        }
+        self.snapshots.push(SpeciesSnapshot {
+            time: sim.time(),
+            counts,
+        });
+    }
+
+    /// The snapshots.
+    pub fn snapshots(&self) -> &[SpeciesSnapshot] {
+        &self.snapshots
+    }
+
+    /// `(t, fraction of the discs in half that are of species)` over the snapshots.
+    pub fn series(&self, species: usize, half: Side) -> Vec<(f64, f64)> {
+        self.snapshots
+            .iter()
+            .map(|s| (s.time, s.fraction(species, half)))
+            .collect()
+    }
+
+    /// Overall composition and the composition of each half at the last snapshot.
+    pub fn summary(&self) -> SpeciesSummary {
+        let (overall, last) = match self.snapshots.last() {
+            None => (Vec::new(), Vec::new()),
+            Some(snap) => {
+                let total: usize = snap.counts.iter().map(|c| c[0] + c[1]).sum();
+                let overall = snap
+                    .counts
+                    .iter()
+                    .map(|c| (c[0] + c[1]) as f64 / total as f64)
+                    .collect();
+                let last = (0..self.species)
+                    .map(|s| [snap.fraction(s, Side::Low), snap.fraction(s, Side::High)])
+                    .collect();
+                (overall, last)
+            }
+        };
+        SpeciesSummary {
+            samples: self.snapshots.len(),
+            overall,
+            last,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::{Disc, Options, SimBox, Vector};
+
+    #[test]
+    fn composition_of_the_halves() {
+        // Box 10 x 10 cut along x at 5. Low half: two of species 0, one of species 2. High
+        // half: one of species 0. Then disc 3 (species 0, high) crosses into the low half.
+        let place = |x: f64, y: f64, vx: f64, s: u16| {
+            let mut d = Disc::new(Vector::new([x, y]), Vector::new([vx, 0.0]), 0.5);
+            d.species = s;
+            d
+        };
+        let discs = [
+            place(1.0, 1.0, 0.0, 0),
+            place(1.0, 3.0, 0.0, 0),
+            place(3.0, 5.0, 0.0, 2),
+            place(6.0, 8.0, -1.0, 0),
+        ];
+        let mut sim =
+            Simulation::new(&discs, SimBox::walls([10.0, 10.0]), Options::default()).unwrap();
+        let mut halves = SpeciesHalves::new(&sim, 0);
+        halves.sample(&sim);
+        sim.run_until(2.0, &mut ());
+        halves.sample(&sim);
+        let first = &halves.snapshots()[0];
+        assert_eq!(first.counts, vec![[2, 1], [0, 0], [1, 0]]);
+        assert_eq!(first.fraction(0, Side::Low), 2.0 / 3.0);
+        assert_eq!(first.fraction(2, Side::High), 0.0);
+        assert_eq!(first.fraction(7, Side::Low), 0.0);
+        let high = halves.series(0, Side::High);
+        assert_eq!(high[0], (0.0, 1.0));
+        assert_eq!(high[1].0, 2.0);
+        // Nobody is left in the high half.
+        assert!(high[1].1.is_nan());
+        let s = halves.summary();
+        assert_eq!(s.samples, 2);
+        assert_eq!(s.overall, vec![0.75, 0.0, 0.25]);
+        assert_eq!(s.last[0][0], 0.75);
+        assert!(s.last[0][1].is_nan());
+    }
+}

@@ -1,0 +1,206 @@
+//! Speed distribution against the 2D Maxwell-Boltzmann law.
+//!
+//! In equilibrium each velocity component of a disc of mass `m` is normal with variance
+//! `kT/m`, so in 2D the speed follows the Rayleigh law (the 2D Maxwell-Boltzmann speed
+//! distribution; e.g. Reif, *Fundamentals of Statistical and Thermal Physics* (1965), chapter 7,
+//! reduced to two dimensions):
+//! `f(v) = (m v / kT) exp(-m v^2 / (2 kT))`, `F(v) = 1 - exp(-m v^2 / (2 kT))`, with mean speed
+//! `sqrt(pi kT / (2m))` and root mean square speed `sqrt(2 kT / m)`.
+//!
+//! The fit is judged with the Kolmogorov-Smirnov test ([`ks_test`]) on the values
+//! `F(v_i; m_i)`, which are uniform on `[0, 1]` if the law holds: for equal masses this is the
+//! plain test of the speeds against `F`, and it also covers mixtures of masses. The speeds of
+//! one disc at two times are independent only if many collisions separate the times, so sample
+//! at well-separated times (a few collisions per disc apart) or the p-value is meaningless.
+
+use super::stats::{ks_test, Histogram, KsTest};
+use crate::simulation::Simulation;
+
+/// The 2D Maxwell-Boltzmann (Rayleigh) speed density `(m v / kT) exp(-m v^2 / (2 kT))`.
+pub fn rayleigh_pdf(v: f64, m: f64, kt: f64) -> f64 {
+    m * v / kt * (-m * v * v / (2.0 * kt)).exp()
+}
+
+/// The 2D Maxwell-Boltzmann (Rayleigh) speed CDF `1 - exp(-m v^2 / (2 kT))`.
+pub fn rayleigh_cdf(v: f64, m: f64, kt: f64) -> f64 {
+    -(-m * v * v / (2.0 * kt)).exp_m1()
+}
+
+/// Speeds of every disc pooled over the snapshots the caller takes.
+#[derive(Clone, Debug)]
+pub struct Speeds {
+    speeds: Vec<f64>,
+    masses: Vec<f64>,
+    histogram: Histogram,
+    snapshots: usize,
+}
+
+/// Result of a speed measurement, against the Rayleigh law at a given `kT`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SpeedSummary {
+    /// Speeds pooled.
+    pub samples: usize,
+    /// Snapshots taken.
+    pub snapshots: usize,
+    /// Mean speed.
+    pub mean: f64,
+    /// Root mean square speed `sqrt(<v^2>)`.
+    pub rms: f64,
+    /// Mean speed of the Rayleigh law, `sqrt(pi kT / (2m))` averaged over the samples' masses.
+    pub mean_theory: f64,
+    /// RMS speed of the Rayleigh law, `sqrt(2 kT <1/m>)`.
+    pub rms_theory: f64,
+    /// Kolmogorov-Smirnov test against the Rayleigh law.
+    pub ks: KsTest,
+}
+
+impl Speeds {
+    /// Pools speeds, with a histogram of `bins` bins on `[0, max_speed)`.
+    ///
+    /// # Panics
+    /// If `bins == 0` or `max_speed` is not a finite positive number.
+    pub fn new(bins: usize, max_speed: f64) -> Self {
+        Speeds {
+            speeds: Vec::new(),
+            masses: Vec::new(),
+            histogram: Histogram::new(0.0, max_speed, bins),
+            snapshots: 0,
+        }
+    }
+
+    /// Adds the speed of every disc now.
+    pub fn sample(&mut self, sim: &Simulation) {
+        for i in 0..sim.len() {
+            let v = sim.velocity(i).norm2().sqrt();
+            self.speeds.push(v);
+            self.masses.push(sim.mass(i));
+            self.histogram.add(v);
+        }
+        self.snapshots += 1;
+    }
+
+    /// The pooled speeds, in sampling order.
+    pub fn speeds(&self) -> &[f64] {
+        &self.speeds
+    }
+
+    /// The histogram of the pooled speeds.
+    pub fn histogram(&self) -> &Histogram {
+        &self.histogram
+    }
+
+    /// `(bin centre, measured density, Rayleigh density at kT)` per histogram bin; with mixed
+    /// masses the law is the mixture over the samples' masses.
+    pub fn histogram_vs_rayleigh(&self, kt: f64) -> Vec<(f64, f64, f64)> {
+        let n = self.masses.len().max(1) as f64;
+        self.histogram
+            .density()
+            .into_iter()
+            .map(|(v, f)| {
+                let law = self
+                    .masses
+                    .iter()
+                    .map(|&m| rayleigh_pdf(v, m, kt))
+                    .sum::<f64>()
+                    / n;
+                (v, f, law)
+            })
+            .collect()
+    }
+
+    /// Kolmogorov-Smirnov test of the pooled speeds against any law given as a CDF of speed and
+    /// mass: the values `cdf(v_i, m_i)` are tested for uniformity on `[0, 1]`.
+    pub fn ks_test(&self, cdf: impl Fn(f64, f64) -> f64) -> KsTest {
+        let u: Vec<f64> = self
+            .speeds
+            .iter()
+            .zip(&self.masses)
+            .map(|(&v, &m)| cdf(v, m))
+            .collect();
+        ks_test(&u, |x| x.clamp(0.0, 1.0))
+    }
+
+    /// Kolmogorov-Smirnov test against the Rayleigh law at `kT`.
+    pub fn ks_rayleigh(&self, kt: f64) -> KsTest {
+        self.ks_test(|v, m| rayleigh_cdf(v, m, kt))
+    }
+
+    /// Moments and the fit to the Rayleigh law at `kT` (for instance
+    /// [`kinetic_temperature`](super::kinetic_temperature), which is constant in a run).
+    pub fn summary(&self, kt: f64) -> SpeedSummary {
+        let n = self.speeds.len() as f64;
+        let mean_of = |f: &dyn Fn(f64, f64) -> f64| -> f64 {
+            self.speeds
+                .iter()
+                .zip(&self.masses)
+                .map(|(&v, &m)| f(v, m))
+                .sum::<f64>()
+                / n
+        };
+        SpeedSummary {
+            samples: self.speeds.len(),
+            snapshots: self.snapshots,
+            mean: mean_of(&|v, _| v),
+            rms: mean_of(&|v, _| v * v).sqrt(),
+            mean_theory: mean_of(&|_, m| (std::f64::consts::PI * kt / (2.0 * m)).sqrt()),
+            rms_theory: mean_of(&|_, m| 2.0 * kt / m).sqrt(),
+            ks: self.ks_rayleigh(kt),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::{Disc, Options, SimBox, Vector};
+
+    #[test]
+    fn rayleigh_law_is_normalised_and_has_its_moments() {
+        // Midpoint rule on [0, 20] for m = 2, kT = 1.5: integral 1, mean sqrt(pi kT / 2m),
+        // mean square 2 kT / m.
+        let (m, kt, h) = (2.0, 1.5, 1e-4);
+        let (mut norm, mut mean, mut sq) = (0.0, 0.0, 0.0);
+        for k in 0..200_000 {
+            let v = (k as f64 + 0.5) * h;
+            let f = rayleigh_pdf(v, m, kt) * h;
+            norm += f;
+            mean += v * f;
+            sq += v * v * f;
+        }
+        assert!((norm - 1.0).abs() < 1e-8);
+        assert!((mean - (std::f64::consts::PI * kt / (2.0 * m)).sqrt()).abs() < 1e-8);
+        assert!((sq - 2.0 * kt / m).abs() < 1e-8);
+        assert!((rayleigh_cdf(1.0, m, kt) - (1.0 - (-2.0f64 / 3.0).exp())).abs() < 1e-15);
+    }
+
+    #[test]
+    fn speeds_of_hand_made_discs() {
+        // Speeds 5 (mass 2) and 2 (mass 1), twice: mean 3.5, rms sqrt(14.5).
+        let mut a = Disc::new(Vector::new([2.0, 2.0]), Vector::new([3.0, 4.0]), 0.5);
+        a.mass = 2.0;
+        let b = Disc::new(Vector::new([6.0, 6.0]), Vector::new([0.0, -2.0]), 0.5);
+        let sim =
+            Simulation::new(&[a, b], SimBox::walls([10.0, 10.0]), Options::default()).unwrap();
+        let mut s = Speeds::new(10, 10.0);
+        s.sample(&sim);
+        s.sample(&sim);
+        let sum = s.summary(1.0);
+        assert_eq!((sum.samples, sum.snapshots), (4, 2));
+        assert_eq!(sum.mean, 3.5);
+        assert_eq!(sum.rms, 14.5f64.sqrt());
+        // <1/m> = 3/4: rms_theory = sqrt(2 * 3/4).
+        assert!((sum.rms_theory - 1.5f64.sqrt()).abs() < 1e-15);
+        assert_eq!(s.histogram().counts[2], 2);
+        assert_eq!(s.histogram().counts[5], 2);
+        assert_eq!(s.speeds(), &[5.0, 2.0, 5.0, 2.0]);
+        // Each disc's value of F is its own CDF: F(5; 2, 1) = 1 - e^-25, F(2; 1, 1) = 1 - e^-2.
+        let ks = s.ks_rayleigh(1.0);
+        let f_low = 1.0 - (-2.0f64).exp();
+        assert!((ks.statistic - f_low).abs() < 1e-12);
+        let v = s.histogram_vs_rayleigh(1.0);
+        assert_eq!(v.len(), 10);
+        let expect = 0.5 * (rayleigh_pdf(2.5, 2.0, 1.0) + rayleigh_pdf(2.5, 1.0, 1.0));
+        assert!((v[2].2 - expect).abs() < 1e-15);
+        assert!((v[2].1 - 2.0 / (4.0 * 1.0)).abs() < 1e-15);
+    }
+}
