@@ -20,6 +20,9 @@ pub enum Command {
     Run(RunArgs),
     /// Time the event loop on a melted lattice fluid; prints one JSON line.
     Bench(BenchArgs),
+    /// Run one of the experiments (writes CSV files and plots).
+    #[command(subcommand)]
+    Experiment(crate::commands::experiment::Experiment),
 }
 
 /// Input file format.
@@ -85,12 +88,28 @@ pub struct RunArgs {
     /// freely until apart.
     #[arg(long)]
     pub allow_overlaps: bool,
+    /// Multi-disc collisions: discs touching a colliding pair (gap below 1e-3 of the contact
+    /// distance) take part at the same instant, as stiff elastic (Hertz) contacts. Needs the
+    /// elastic rule. For billiard breaks and Newton's cradles.
+    #[arg(long)]
+    pub multi: bool,
     /// Write frames to this extended XYZ file (OVITO, ASE).
     #[arg(long, value_name = "FILE.xyz", requires = "every")]
     pub trajectory: Option<PathBuf>,
     /// Interval between trajectory frames.
     #[arg(long, value_name = "DT", value_parser = parse_positive, requires = "trajectory", allow_negative_numbers = true)]
     pub every: Option<f64>,
+    /// Attach measurements (comma-separated): temperature, pressure, collisions, speeds, msd,
+    /// species. Their time series go to CSV files in --measure-dir, their summaries into the
+    /// run's summary.
+    #[arg(long, value_enum, value_delimiter = ',')]
+    pub measure: Vec<crate::commands::measurements::Measure>,
+    /// Interval between measurement samples (default: a hundredth of --until).
+    #[arg(long, value_name = "DT", value_parser = parse_positive, requires = "measure")]
+    pub sample_every: Option<f64>,
+    /// Folder for the measurement CSV files.
+    #[arg(long, value_name = "DIR", default_value = ".", requires = "measure")]
+    pub measure_dir: PathBuf,
     /// Print the summary as one JSON object on standard output.
     #[arg(long)]
     pub json: bool,

@@ -25,6 +25,21 @@ impl fmt::Display for UserError {
 
 impl std::error::Error for UserError {}
 
+/// Prints a line on standard output. A closed pipe (`edmd ... | head`) is not an error: the
+/// reader has what it wanted, so the program ends quietly instead of panicking like
+/// `println!`.
+pub fn print_line(text: &str) {
+    use std::io::Write;
+    let mut out = std::io::stdout().lock();
+    if let Err(e) = writeln!(out, "{text}").and_then(|_| out.flush()) {
+        if e.kind() == std::io::ErrorKind::BrokenPipe {
+            std::process::exit(0);
+        }
+        eprintln!("error: cannot write to standard output: {e}");
+        std::process::exit(1);
+    }
+}
+
 /// Shorthand for returning a [`UserError`].
 pub fn user_error<T>(msg: impl Into<String>) -> anyhow::Result<T> {
     Err(UserError(msg.into()).into())
@@ -34,6 +49,10 @@ pub fn user_error<T>(msg: impl Into<String>) -> anyhow::Result<T> {
 pub fn exit_with(program: &str, result: anyhow::Result<()>) -> ExitCode {
     match result {
         Ok(()) => ExitCode::SUCCESS,
+        Err(e) if e.downcast_ref::<std::io::Error>().is_some_and(|io| io.kind() == std::io::ErrorKind::BrokenPipe) => {
+            // The reader went away (`particles f 10 | head`): it has what it wanted.
+            ExitCode::SUCCESS
+        }
         Err(e) => {
             let user = e.downcast_ref::<UserError>().is_some();
             let msg = format!("{e:#}").replace('\n', " ");

@@ -85,7 +85,7 @@ pub fn run(args: &BenchArgs) -> Result<()> {
         peak_rss_bytes_per_disc: peak_rss_bytes().map(|b| b as f64 / args.n as f64),
         relative_energy_change: (sim.kinetic_energy() - e0) / e0,
     };
-    println!("{}", serde_json::to_string(&result)?);
+    crate::print_line(&serde_json::to_string(&result)?);
     Ok(())
 }
 

@@ -1,5 +1,7 @@
 //! One module per subcommand.
 
 pub mod bench;
+pub mod experiment;
+pub mod measurements;
 pub mod particles;
 pub mod run;

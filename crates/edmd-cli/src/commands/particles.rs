@@ -35,6 +35,7 @@ pub fn run(args: &ParticlesArgs, out: &mut impl Write) -> Result<()> {
         Options {
             rule: CollisionRule::Swap,
             overlaps: OverlapPolicy::Refuse,
+            multi: None,
         },
     )?;
     let mut counter = CollisionCounter::new(sim.len());

@@ -6,6 +6,7 @@ use std::time::Instant;
 
 use anyhow::Result;
 use edmd_core::{
+    MultiContact,
     CollisionRule, Observer, Options, OverlapPolicy, Simulation, Stats, OVERLAP_TOLERANCE,
 };
 use edmd_io::princeton::ColumnOrder;
@@ -14,6 +15,7 @@ use serde::Serialize;
 
 use crate::args::{ColumnsArg, FormatArg, RuleArg, RunArgs};
 use crate::input::{build, load, read_text};
+use crate::commands::measurements::Measurements;
 use crate::output::AtomicFile;
 use crate::user_error;
 
@@ -72,7 +74,8 @@ pub fn run(args: &RunArgs) -> Result<()> {
     } else {
         OverlapPolicy::Refuse
     };
-    let mut sim = build(&args.file, &sys, Options { rule, overlaps })?;
+    let multi = args.multi.then(MultiContact::default);
+    let mut sim = build(&args.file, &sys, Options { rule, overlaps, multi })?;
     if let (Some(path), Some(_)) = (&args.output, &args.trajectory) {
         if Path::new(path) == args.trajectory.as_deref().unwrap() {
             return user_error(format!(
@@ -94,22 +97,30 @@ pub fn run(args: &RunArgs) -> Result<()> {
     let progress = progress_bar(args.until);
     let started = Instant::now();
     let mut frames = 0u64;
-    let mut obs = ();
-    match (&mut traj, args.every) {
-        (Some(t), Some(dt)) => {
-            loop {
-                let time = frames as f64 * dt;
-                if time > args.until {
-                    break;
-                }
-                run_to(&mut sim, time, &progress, &mut obs);
-                edmd_io::xyz::write_frame(t.writer(), &sim.discs(), sim.sim_box(), time)?;
-                frames += 1;
-            }
-            run_to(&mut sim, args.until, &progress, &mut obs);
+    let mut obs = Measurements::new(&sim, &args.measure);
+    // Stops: trajectory frames at k * every, measurement samples at k * sample_every.
+    let sample_dt = (!args.measure.is_empty()).then(|| args.sample_every.unwrap_or(args.until / 100.0)).filter(|d| *d > 0.0);
+    let mut next_frame = traj.as_ref().and(args.every).map(|_| 0.0);
+    let mut samples = 0u64;
+    loop {
+        let next_sample = sample_dt.map(|d| (samples + 1) as f64 * d).filter(|t| *t <= args.until);
+        let next = [next_frame, next_sample].into_iter().flatten().fold(f64::INFINITY, f64::min);
+        if next > args.until {
+            break;
         }
-        _ => run_to(&mut sim, args.until, &progress, &mut obs),
+        run_to(&mut sim, next, &progress, &mut obs);
+        if next_frame == Some(next) {
+            let t = traj.as_mut().expect("frames only with a trajectory");
+            edmd_io::xyz::write_frame(t.writer(), &sim.discs(), sim.sim_box(), next)?;
+            frames += 1;
+            next_frame = args.every.map(|dt| frames as f64 * dt);
+        }
+        if next_sample == Some(next) {
+            obs.sample(&sim);
+            samples += 1;
+        }
     }
+    run_to(&mut sim, args.until, &progress, &mut obs);
     let seconds = started.elapsed().as_secs_f64();
     if let Some(pb) = progress {
         pb.finish_and_clear();
@@ -163,15 +174,29 @@ pub fn run(args: &RunArgs) -> Result<()> {
         edmd_io::write(&mut out, &discs, sim.sim_box(), sim.barriers(), sys.format)?;
         out.flush()?;
     }
-    let text = if args.json {
-        serde_json::to_string(&summary)?
+    let (measured, files) = if args.measure.is_empty() {
+        (serde_json::Value::Null, Vec::new())
     } else {
-        human(&summary)
+        obs.finish(&sim, &args.measure_dir)?
+    };
+    let text = if args.json {
+        let mut v = serde_json::to_value(&summary)?;
+        if !measured.is_null() {
+            v["measurements"] = measured;
+        }
+        serde_json::to_string(&v)?
+    } else {
+        let mut t = human(&summary);
+        if !measured.is_null() {
+            t += &format!("\nmeasurements: {}", serde_json::to_string_pretty(&measured)?);
+            t += &format!("\n{}", crate::commands::experiment::common::files_line(&files));
+        }
+        t
     };
     if to_stdout {
         eprintln!("{text}");
     } else {
-        println!("{text}");
+        crate::print_line(&text);
     }
     Ok(())
 }

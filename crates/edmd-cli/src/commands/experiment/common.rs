@@ -1,0 +1,141 @@
+//! What every experiment shares: the output folder, CSV files, progress, Ctrl-C, the summary.
+
+use std::io::{IsTerminal, Write};
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicBool, Ordering};
+
+use anyhow::Result;
+use clap::Args;
+use serde::Serialize;
+
+use crate::output::AtomicFile;
+
+/// Options every experiment takes.
+#[derive(Debug, Clone, Args)]
+pub struct CommonArgs {
+    /// Folder for the CSV files and plots (created if missing).
+    #[arg(long, value_name = "DIR", default_value = ".")]
+    pub out_dir: PathBuf,
+    /// Random seed: the same seed gives the same results.
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// Print the summary as one JSON object on standard output.
+    #[arg(long)]
+    pub json: bool,
+}
+
+static STOP: AtomicBool = AtomicBool::new(false);
+
+/// Makes Ctrl-C ask the running experiment to stop; it then writes what it measured so far.
+/// A second Ctrl-C ends the program at once.
+pub fn install_ctrlc() {
+    let _ = ctrlc::set_handler(|| {
+        if STOP.swap(true, Ordering::SeqCst) {
+            std::process::exit(130);
+        }
+        eprintln!("\nstopping: writing what was measured so far (Ctrl-C again to quit at once)");
+    });
+}
+
+/// True once Ctrl-C has been pressed.
+pub fn stop_requested() -> bool {
+    STOP.load(Ordering::SeqCst)
+}
+
+/// Creates the output folder.
+pub fn out_dir(common: &CommonArgs) -> Result<&Path> {
+    std::fs::create_dir_all(&common.out_dir)
+        .map_err(|e| crate::UserError(format!("{}: cannot create the output folder: {e}", common.out_dir.display())))?;
+    Ok(&common.out_dir)
+}
+
+/// Writes a CSV file (header line, then one row per record), whole or not at all.
+pub fn write_csv(path: &Path, header: &[&str], rows: impl IntoIterator<Item = Vec<f64>>) -> Result<()> {
+    let mut f = AtomicFile::create(path)?;
+    let w = f.writer();
+    writeln!(w, "{}", header.join(","))?;
+    for row in rows {
+        let cells: Vec<String> = row.iter().map(|x| format!("{x:?}")).collect();
+        writeln!(w, "{}", cells.join(","))?;
+    }
+    f.commit()
+}
+
+/// A progress bar on standard error, only when it is a terminal.
+pub struct Progress(Option<indicatif::ProgressBar>);
+
+impl Progress {
+    /// A bar of `len` steps with a label.
+    pub fn new(len: u64, label: &str) -> Self {
+        if !std::io::stderr().is_terminal() {
+            return Progress(None);
+        }
+        let pb = indicatif::ProgressBar::new(len);
+        if let Ok(style) = indicatif::ProgressStyle::with_template(&format!("{label} {{bar:40}} {{pos}}/{{len}} {{elapsed}} (eta {{eta}})")) {
+            pb.set_style(style);
+        }
+        Progress(Some(pb))
+    }
+
+    /// Sets the position.
+    pub fn set(&self, pos: u64) {
+        if let Some(pb) = &self.0 {
+            pb.set_position(pos);
+        }
+    }
+
+    /// Removes the bar.
+    pub fn finish(&self) {
+        if let Some(pb) = &self.0 {
+            pb.finish_and_clear();
+        }
+    }
+}
+
+/// Prints the summary: JSON on request, else the human text.
+pub fn report<T: Serialize>(common: &CommonArgs, summary: &T, human: &str) -> Result<()> {
+    if common.json {
+        crate::print_line(&serde_json::to_string(summary)?);
+    } else {
+        crate::print_line(human);
+    }
+    Ok(())
+}
+
+/// Lists the files written, for the human summary.
+pub fn files_line(paths: &[PathBuf]) -> String {
+    let names: Vec<String> = paths.iter().map(|p| p.display().to_string()).collect();
+    format!("wrote: {}", names.join(", "))
+}
+
+/// A fluid of `n` equal discs (diameter 1, mass 1, kT = 1) at `packing`, melted from a lattice
+/// by `melt` disc-disc collisions per disc, and its collision rate per disc per unit time
+/// (measured while melting, to size the measuring runs).
+pub fn melted_fluid(n: usize, packing: f64, boundary: edmd_core::Boundary, seed: u64, melt: u64) -> Result<(edmd_core::Simulation, f64)> {
+    let (discs, bx) = edmd_core::setup::lattice_fluid(n, packing, boundary, seed).or_else(|e| crate::user_error(e.to_string()))?;
+    let mut sim = edmd_core::Simulation::new(&discs, bx, edmd_core::Options::default())?;
+    while sim.stats().disc_disc < melt * n as u64 {
+        sim.run_events(10_000, &mut ());
+    }
+    let rate = 2.0 * sim.stats().disc_disc as f64 / (n as f64 * sim.time().max(f64::MIN_POSITIVE));
+    Ok((sim, rate))
+}
+
+/// Checks a list of packing fractions.
+pub fn check_packings(name: &str, packings: &[f64], max: f64) -> Result<()> {
+    if packings.is_empty() {
+        return crate::user_error(format!("{name}: give at least one packing fraction"));
+    }
+    if let Some(p) = packings.iter().find(|&&p| !(p > 0.0 && p < max)) {
+        return crate::user_error(format!("{name}: packing fraction {p} is outside (0, {max})"));
+    }
+    Ok(())
+}
+
+/// Checks a disc count.
+pub fn check_n(name: &str, n: usize, min: usize) -> Result<()> {
+    if n < min {
+        return crate::user_error(format!("{name}: --n must be at least {min}"));
+    }
+    Ok(())
+}

@@ -1,0 +1,137 @@
+//! `edmd experiment maxwell`: the speed distribution of a hard-disc gas against the 2D
+//! Maxwell-Boltzmann law, the Rayleigh distribution `f(v) = (m v / kT) exp(-m v^2 / 2kT)`.
+//!
+//! The gas starts with every disc at the same speed (random directions), which is as far from
+//! Rayleigh as it gets; collisions alone bring it there. Speeds are pooled from snapshots a few
+//! collisions per disc apart and compared with the Kolmogorov-Smirnov test.
+
+use anyhow::Result;
+use clap::Args;
+use edmd_core::measure::{kinetic_temperature, Speeds};
+use edmd_core::setup::lattice_fluid;
+use edmd_core::{Boundary, Options, Simulation, Vector};
+use edmd_plot::{Figure, Series};
+use rand::{Rng, SeedableRng};
+use serde::Serialize;
+
+use super::common::{check_n, check_packings, files_line, out_dir, report, stop_requested, write_csv, CommonArgs, Progress};
+
+/// Options of `edmd experiment maxwell`.
+#[derive(Debug, Args)]
+pub struct MaxwellArgs {
+    /// Number of discs.
+    #[arg(long, default_value_t = 2000)]
+    pub n: usize,
+    /// Packing fraction.
+    #[arg(long, default_value_t = 0.3)]
+    pub packing: f64,
+    /// Snapshots pooled into the histogram.
+    #[arg(long, default_value_t = 10)]
+    pub snapshots: usize,
+    /// Histogram bins.
+    #[arg(long, default_value_t = 40)]
+    pub bins: usize,
+    /// Shared options.
+    #[command(flatten)]
+    pub common: CommonArgs,
+}
+
+/// The summary.
+#[derive(Debug, Serialize)]
+pub struct Summary {
+    /// Experiment name.
+    pub experiment: &'static str,
+    /// Discs.
+    pub n: usize,
+    /// Measured temperature kT (mass 1).
+    pub kt: f64,
+    /// Speeds pooled.
+    pub samples: usize,
+    /// Mean speed, measured and Rayleigh's `sqrt(pi kT / 2m)`.
+    pub mean_speed: [f64; 2],
+    /// Root mean square speed, measured and Rayleigh's `sqrt(2 kT / m)`.
+    pub rms_speed: [f64; 2],
+    /// Kolmogorov-Smirnov statistic against Rayleigh at the measured kT.
+    pub ks_statistic: f64,
+    /// Its p-value (large: consistent with Rayleigh).
+    pub ks_p_value: f64,
+    /// The same test on the initial, equal-speed state.
+    pub initial_ks_p_value: f64,
+    /// True if stopped by Ctrl-C early.
+    pub interrupted: bool,
+}
+
+/// Runs the experiment.
+pub fn run(args: &MaxwellArgs) -> Result<()> {
+    check_packings("maxwell", &[args.packing], 0.70)?;
+    check_n("maxwell", args.n, 16)?;
+    if args.snapshots == 0 || args.bins < 2 {
+        return crate::user_error("maxwell: --snapshots must be >= 1 and --bins >= 2");
+    }
+    let dir = out_dir(&args.common)?;
+    let (mut discs, bx) = lattice_fluid(args.n, args.packing, Boundary::Periodic, args.common.seed).or_else(|e| crate::user_error(format!("maxwell: {e}")))?;
+    // Equal speeds sqrt(2) (kT = 1), random directions in opposite pairs (zero momentum).
+    let mut rng = rand_pcg::Pcg64Mcg::seed_from_u64(args.common.seed);
+    for k in 0..discs.len() {
+        let a: f64 = if k % 2 == 1 { std::f64::consts::PI } else { rng.random::<f64>() * std::f64::consts::TAU };
+        let base = if k % 2 == 1 { discs[k - 1].vel } else { Vector::new([2f64.sqrt(), 0.0]) };
+        let (s, c) = a.sin_cos();
+        discs[k].vel = Vector::new([base[0] * c - base[1] * s, base[0] * s + base[1] * c]);
+    }
+    let mut sim = Simulation::new(&discs, bx, Options::default())?;
+    let kt = kinetic_temperature(&sim);
+    let max = 5.0 * kt.sqrt();
+    let mut initial = Speeds::new(args.bins, max);
+    initial.sample(&sim);
+    let initial_p = initial.ks_rayleigh(kt).p_value;
+    // Relax for 30 collisions per disc, then a snapshot every 5.
+    let n = args.n as u64;
+    while sim.stats().disc_disc < 30 * n {
+        sim.run_events(10_000, &mut ());
+    }
+    let mut speeds = Speeds::new(args.bins, max);
+    let progress = Progress::new(args.snapshots as u64, "maxwell");
+    for k in 0..args.snapshots {
+        if stop_requested() {
+            break;
+        }
+        let target = sim.stats().disc_disc + 5 * n;
+        while sim.stats().disc_disc < target {
+            sim.run_events(10_000, &mut ());
+        }
+        speeds.sample(&sim);
+        progress.set(k as u64 + 1);
+    }
+    progress.finish();
+    let s = speeds.summary(kt);
+    let rows = speeds.histogram_vs_rayleigh(kt);
+    let csv = dir.join("maxwell.csv");
+    write_csv(&csv, &["speed", "measured_density", "rayleigh_density"], rows.iter().map(|&(v, h, r)| vec![v, h, r]))?;
+    let curve: Vec<(f64, f64)> = (0..=300).map(|i| max * i as f64 / 300.0).map(|v| (v, edmd_core::measure::rayleigh_pdf(v, 1.0, kt))).collect();
+    let (png, svg) = Figure::new(
+        &format!("Speeds of {} discs at packing {} (KS p = {:.2})", args.n, args.packing, s.ks.p_value),
+        "speed v (units of sqrt(kT/m) at kT = 1)",
+        "probability density",
+    )
+    .with(Series::bars("measured", rows.iter().map(|&(v, h, _)| (v, h)).collect()))
+    .with(Series::line(&format!("Rayleigh at kT = {kt:.4}"), curve))
+    .save(&dir.join("maxwell"))?;
+    let human = format!(
+        "speed distribution of {} discs at packing {} (kT = {:.4}):\n  {} speeds from {} snapshots\n  mean speed {:.4} (Rayleigh {:.4}), rms {:.4} (Rayleigh {:.4})\n  Kolmogorov-Smirnov against Rayleigh: D = {:.4}, p = {:.3} (the equal-speed start: p = {:.1e})\n{}",
+        args.n, args.packing, kt, s.samples, s.snapshots, s.mean, s.mean_theory, s.rms, s.rms_theory, s.ks.statistic, s.ks.p_value, initial_p,
+        files_line(&[csv, png, svg])
+    );
+    let summary = Summary {
+        experiment: "maxwell",
+        n: args.n,
+        kt,
+        samples: s.samples,
+        mean_speed: [s.mean, s.mean_theory],
+        rms_speed: [s.rms, s.rms_theory],
+        ks_statistic: s.ks.statistic,
+        ks_p_value: s.ks.p_value,
+        initial_ks_p_value: initial_p,
+        interrupted: s.snapshots < args.snapshots,
+    };
+    report(&args.common, &summary, &human)
+}

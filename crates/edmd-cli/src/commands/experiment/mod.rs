@@ -1,0 +1,39 @@
+//! `edmd experiment NAME`: the measurements of the Princeton assignment, each a command that
+//! prints a summary and writes CSV files and plots (PNG and SVG) into `--out-dir`.
+
+pub mod billiards;
+pub mod common;
+pub mod eos;
+pub mod maxwell;
+pub mod mfp;
+pub mod reversibility;
+
+use anyhow::Result;
+use clap::Subcommand;
+
+/// The experiments.
+#[derive(Debug, Subcommand)]
+pub enum Experiment {
+    /// Break a racked triangle with multi-disc and with binary collisions; plot both.
+    Billiards(billiards::BilliardsArgs),
+    /// The equation of state: Z = PA/(NkT) against packing, with Henderson's formula.
+    Eos(eos::EosArgs),
+    /// The speed histogram against the 2D Maxwell-Boltzmann (Rayleigh) law.
+    Maxwell(maxwell::MaxwellArgs),
+    /// Free path and free time histograms; mean free path against density.
+    Mfp(mfp::MfpArgs),
+    /// Run forward, reverse the velocities, run back: how far from the start do the discs land?
+    Reversibility(reversibility::ReversibilityArgs),
+}
+
+/// Runs an experiment.
+pub fn run(which: &Experiment) -> Result<()> {
+    common::install_ctrlc();
+    match which {
+        Experiment::Billiards(a) => billiards::run(a),
+        Experiment::Eos(a) => eos::run(a),
+        Experiment::Maxwell(a) => maxwell::run(a),
+        Experiment::Mfp(a) => mfp::run(a),
+        Experiment::Reversibility(a) => reversibility::run(a),
+    }
+}

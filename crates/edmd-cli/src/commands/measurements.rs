@@ -1,0 +1,172 @@
+//! `edmd run --measure ...`: the library's measurement observers attached to a run, their time
+//! series written as CSV files and their summaries added to the run's summary.
+
+use std::path::{Path, PathBuf};
+
+use anyhow::Result;
+use clap::ValueEnum;
+use edmd_core::measure::{kinetic_temperature, Collisions, Diffusion, Pressure, SpeciesHalves, Speeds, Temperature};
+use edmd_core::{EventRecord, Observer, Simulation};
+use serde_json::{json, Value};
+
+use crate::commands::experiment::common::write_csv;
+
+/// A measurement `edmd run` can attach.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum Measure {
+    /// Temperature over time: kT = sum m v^2 / 2N.
+    Temperature,
+    /// Pressure from wall impulses and from the collision virial, and Z = PA/(NkT).
+    Pressure,
+    /// Collision frequency; free path and free time histograms and means.
+    Collisions,
+    /// Speed histogram against the 2D Maxwell-Boltzmann (Rayleigh) law, with a KS test.
+    Speeds,
+    /// Mean square displacement of all discs and the diffusion coefficient.
+    Msd,
+    /// Fraction of each species in the left and right halves over time.
+    Species,
+}
+
+/// The attached measurements.
+pub struct Measurements {
+    temperature: Option<Temperature>,
+    pressure: Option<Pressure>,
+    collisions: Option<Collisions>,
+    speeds: Option<Speeds>,
+    msd: Option<Diffusion>,
+    species: Option<SpeciesHalves>,
+}
+
+impl Measurements {
+    /// Starts the chosen measurements on `sim` at its current time.
+    pub fn new(sim: &Simulation, which: &[Measure]) -> Self {
+        let has = |m| which.contains(&m);
+        let kt = kinetic_temperature(sim).max(f64::MIN_POSITIVE);
+        let m_min = (0..sim.len()).map(|i| sim.mass(i)).fold(f64::INFINITY, f64::min);
+        let v_scale = (kt / m_min).sqrt();
+        // Free paths: histogram range from the box size (dilute gases) down to the discs.
+        let l = sim.sim_box().lengths.iter().cloned().fold(f64::INFINITY, f64::min);
+        Measurements {
+            temperature: has(Measure::Temperature).then(Temperature::new),
+            pressure: has(Measure::Pressure).then(|| Pressure::new(sim)),
+            collisions: has(Measure::Collisions).then(|| Collisions::new(sim, 50, l, l / v_scale)),
+            speeds: has(Measure::Speeds).then(|| Speeds::new(40, 5.0 * v_scale)),
+            msd: has(Measure::Msd).then(|| Diffusion::new(sim)),
+            species: has(Measure::Species).then(|| SpeciesHalves::new(sim, 0)),
+        }
+    }
+
+    /// Takes a sample of every measurement at the simulation's current time.
+    pub fn sample(&mut self, sim: &Simulation) {
+        if let Some(m) = &mut self.temperature {
+            m.sample(sim);
+        }
+        if let Some(m) = &mut self.pressure {
+            m.sample(sim);
+        }
+        if let Some(m) = &mut self.collisions {
+            m.sample(sim);
+        }
+        if let Some(m) = &mut self.speeds {
+            m.sample(sim);
+        }
+        if let Some(m) = &mut self.msd {
+            m.sample(sim);
+        }
+        if let Some(m) = &mut self.species {
+            m.sample(sim);
+        }
+    }
+
+    /// Writes the CSV files into `dir` and returns the summaries (as JSON) and the files.
+    pub fn finish(&self, sim: &Simulation, dir: &Path) -> Result<(Value, Vec<PathBuf>)> {
+        std::fs::create_dir_all(dir)
+            .map_err(|e| crate::UserError(format!("{}: cannot create the measurement folder: {e}", dir.display())))?;
+        let mut files = Vec::new();
+        let mut out = serde_json::Map::new();
+        let mut csv = |name: &str, header: &[&str], rows: Vec<Vec<f64>>| -> Result<()> {
+            let p = dir.join(name);
+            write_csv(&p, header, rows)?;
+            files.push(p);
+            Ok(())
+        };
+        if let Some(m) = &self.temperature {
+            csv("temperature.csv", &["time", "kT"], m.series().iter().map(|&(t, k)| vec![t, k]).collect())?;
+            let s = m.summary();
+            out.insert("temperature".into(), json!({"samples": s.samples, "mean": s.mean, "min": s.min, "max": s.max}));
+        }
+        if let Some(m) = &self.pressure {
+            let rows = m.blocks().iter().map(|b| vec![b.start, b.end, b.virial, b.wall.unwrap_or(f64::NAN), b.z]).collect();
+            csv("pressure.csv", &["start", "end", "virial_pressure", "wall_pressure", "Z"], rows)?;
+            let s = m.summary();
+            let est = |e: &edmd_core::measure::Estimate| json!({"value": e.value, "error": e.error, "blocks": e.blocks});
+            out.insert(
+                "pressure".into(),
+                json!({"kT": s.kt, "area": s.area, "effective_area": s.effective_area, "virial": est(&s.virial),
+                       "wall": s.wall.as_ref().map(est), "Z": est(&s.z), "Z_wall": s.z_wall.as_ref().map(est)}),
+            );
+        }
+        if let Some(m) = &self.collisions {
+            csv("collision_frequency.csv", &["time", "collisions_per_disc_per_time"], m.frequency_series().iter().map(|&(t, f)| vec![t, f]).collect())?;
+            csv("free_paths.csv", &["free_path", "density"], m.free_path_histogram().density().iter().map(|&(x, y)| vec![x, y]).collect())?;
+            csv("free_times.csv", &["free_time", "density"], m.free_time_histogram().density().iter().map(|&(x, y)| vec![x, y]).collect())?;
+            let s = m.summary();
+            out.insert(
+                "collisions".into(),
+                json!({"disc_disc": s.disc_disc, "wall": s.wall, "frequency": {"value": s.frequency.value, "error": s.frequency.error},
+                       "wall_frequency": s.wall_frequency, "flights": s.flights, "mean_free_path": s.mean_free_path, "mean_free_time": s.mean_free_time}),
+            );
+        }
+        if let Some(m) = &self.speeds {
+            let kt = kinetic_temperature(sim);
+            csv("speeds.csv", &["speed", "density", "rayleigh_density"], m.histogram_vs_rayleigh(kt).iter().map(|&(v, h, r)| vec![v, h, r]).collect())?;
+            let s = m.summary(kt);
+            out.insert(
+                "speeds".into(),
+                json!({"samples": s.samples, "mean": s.mean, "mean_rayleigh": s.mean_theory, "rms": s.rms, "rms_rayleigh": s.rms_theory,
+                       "ks_statistic": s.ks.statistic, "ks_p_value": s.ks.p_value}),
+            );
+        }
+        if let Some(m) = &self.msd {
+            csv("msd.csv", &["time", "msd"], m.series().iter().map(|&(t, d)| vec![t, d]).collect())?;
+            let fit = m.summary();
+            out.insert("msd".into(), json!({"diffusion_coefficient": fit.map(|f| f.coefficient), "fit_from": fit.map(|f| f.from), "fit_to": fit.map(|f| f.to)}));
+        }
+        if let Some(m) = &self.species {
+            let n_species = m.snapshots().first().map_or(0, |s| s.counts.len());
+            let mut header = vec!["time".to_string()];
+            for s in 0..n_species {
+                header.push(format!("species{s}_left"));
+                header.push(format!("species{s}_right"));
+            }
+            let rows = m
+                .snapshots()
+                .iter()
+                .map(|snap| {
+                    let mut row = vec![snap.time];
+                    for c in &snap.counts {
+                        row.extend([c[0] as f64, c[1] as f64]);
+                    }
+                    row
+                })
+                .collect();
+            let h: Vec<&str> = header.iter().map(String::as_str).collect();
+            csv("species.csv", &h, rows)?;
+            let s = m.summary();
+            out.insert("species".into(), json!({"samples": s.samples, "overall": s.overall, "last": s.last}));
+        }
+        Ok((Value::Object(out), files))
+    }
+}
+
+impl Observer for Measurements {
+    fn on_event(&mut self, e: &EventRecord, sim: &Simulation) {
+        if let Some(m) = &mut self.pressure {
+            m.on_event(e, sim);
+        }
+        if let Some(m) = &mut self.collisions {
+            m.on_event(e, sim);
+        }
+    }
+}
