@@ -3,6 +3,7 @@
 mod support;
 
 mod exact_cases;
+mod generators;
 mod invariants;
 mod naive_reference;
 mod physics;
