@@ -20,6 +20,8 @@ pub enum Command {
     Run(RunArgs),
     /// Time the event loop on a melted lattice fluid; prints one JSON line.
     Bench(BenchArgs),
+    /// Generate a configuration (the Princeton data sets, fluids, mixtures).
+    Gen(crate::commands::gen::GenArgs),
     /// Run one of the experiments (writes CSV files and plots).
     #[command(subcommand)]
     Experiment(crate::commands::experiment::Experiment),

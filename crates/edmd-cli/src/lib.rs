@@ -49,7 +49,10 @@ pub fn user_error<T>(msg: impl Into<String>) -> anyhow::Result<T> {
 pub fn exit_with(program: &str, result: anyhow::Result<()>) -> ExitCode {
     match result {
         Ok(()) => ExitCode::SUCCESS,
-        Err(e) if e.downcast_ref::<std::io::Error>().is_some_and(|io| io.kind() == std::io::ErrorKind::BrokenPipe) => {
+        Err(e)
+            if e.downcast_ref::<std::io::Error>()
+                .is_some_and(|io| io.kind() == std::io::ErrorKind::BrokenPipe) =>
+        {
             // The reader went away (`particles f 10 | head`): it has what it wanted.
             ExitCode::SUCCESS
         }

@@ -13,6 +13,7 @@ fn main() -> ExitCode {
     let result = match &cli.command {
         Command::Run(a) => commands::run::run(a),
         Command::Bench(a) => commands::bench::run(a),
+        Command::Gen(a) => commands::gen::run(a),
         Command::Experiment(e) => commands::experiment::run(e),
     };
     exit_with("edmd", result)

@@ -18,7 +18,9 @@ fn experiment(args: &[&str]) -> (Value, tempfile::TempDir) {
 fn assert_files(dir: &tempfile::TempDir, names: &[&str]) {
     for name in names {
         let p = dir.path().join(name);
-        let len = std::fs::metadata(&p).unwrap_or_else(|_| panic!("{name} missing")).len();
+        let len = std::fs::metadata(&p)
+            .unwrap_or_else(|_| panic!("{name} missing"))
+            .len();
         assert!(len > 100, "{name} is nearly empty");
         if name.ends_with(".png") {
             let bytes = std::fs::read(&p).unwrap();
@@ -38,7 +40,15 @@ fn billiards_break_is_symmetric_with_multi_disc_collisions_only() {
     for b in breaks {
         assert!(b["relative_energy_change"].as_f64().unwrap().abs() < 1e-12);
     }
-    assert_files(&dir, &["billiards_multi.csv", "billiards_multi.png", "billiards_multi.svg", "billiards_binary.png"]);
+    assert_files(
+        &dir,
+        &[
+            "billiards_multi.csv",
+            "billiards_multi.png",
+            "billiards_multi.svg",
+            "billiards_binary.png",
+        ],
+    );
 }
 
 #[test]
@@ -47,8 +57,18 @@ fn reversibility_returns_short_runs_and_loses_long_ones() {
     let runs = v["runs"].as_array().unwrap();
     assert_eq!(runs.len(), 3);
     assert!(runs[0]["max_error"].as_f64().unwrap() < 1e-9, "{v}");
-    assert!(runs[2]["max_error"].as_f64().unwrap() > 1e-3, "rounding growth should show: {v}");
-    assert_files(&dir, &["reversibility.csv", "reversibility.png", "reversibility.svg"]);
+    assert!(
+        runs[2]["max_error"].as_f64().unwrap() > 1e-3,
+        "rounding growth should show: {v}"
+    );
+    assert_files(
+        &dir,
+        &[
+            "reversibility.csv",
+            "reversibility.png",
+            "reversibility.svg",
+        ],
+    );
 }
 
 #[test]
@@ -61,7 +81,11 @@ fn experiment_options_are_validated() {
     ] {
         let out = run("edmd", &args, None);
         assert_eq!(out.status.code(), Some(2), "{args:?}");
-        assert_eq!(String::from_utf8_lossy(&out.stderr).lines().count(), 1, "{args:?}");
+        assert_eq!(
+            String::from_utf8_lossy(&out.stderr).lines().count(),
+            1,
+            "{args:?}"
+        );
     }
 }
 
@@ -71,7 +95,11 @@ fn eos_json_has_z_with_error_bars_near_henderson() {
     let results = v["results"].as_array().unwrap();
     assert_eq!(results.len(), 2);
     for r in results {
-        let (eta, z, err) = (r["packing"].as_f64().unwrap(), r["Z"].as_f64().unwrap(), r["Z_err"].as_f64().unwrap());
+        let (eta, z, err) = (
+            r["packing"].as_f64().unwrap(),
+            r["Z"].as_f64().unwrap(),
+            r["Z_err"].as_f64().unwrap(),
+        );
         // Henderson: Z = (1 + eta^2/8) / (1 - eta)^2.
         let h = (1.0 + eta * eta / 8.0) / ((1.0 - eta) * (1.0 - eta));
         assert!((z / h - 1.0).abs() < 0.015, "{r}");
@@ -86,7 +114,10 @@ fn maxwell_relaxes_an_equal_speed_start_to_rayleigh() {
     assert!(v["ks_p_value"].as_f64().unwrap() > 0.01, "{v}");
     assert!(v["initial_ks_p_value"].as_f64().unwrap() < 1e-6, "{v}");
     let rms = v["rms_speed"].as_array().unwrap();
-    assert!((rms[0].as_f64().unwrap() / rms[1].as_f64().unwrap() - 1.0).abs() < 1e-9, "rms speed is fixed by the energy: {v}");
+    assert!(
+        (rms[0].as_f64().unwrap() / rms[1].as_f64().unwrap() - 1.0).abs() < 1e-9,
+        "rms speed is fixed by the energy: {v}"
+    );
     assert_files(&dir, &["maxwell.csv", "maxwell.png", "maxwell.svg"]);
 }
 
@@ -94,8 +125,230 @@ fn maxwell_relaxes_an_equal_speed_start_to_rayleigh() {
 fn mfp_follows_enskog() {
     let (v, dir) = experiment(&["mfp", "--packing", "0.1,0.3", "--n", "600"]);
     for r in v["results"].as_array().unwrap() {
-        let (m, e) = (r["mean_free_path"].as_f64().unwrap(), r["enskog_mean_free_path"].as_f64().unwrap());
+        let (m, e) = (
+            r["mean_free_path"].as_f64().unwrap(),
+            r["enskog_mean_free_path"].as_f64().unwrap(),
+        );
         assert!((m / e - 1.0).abs() < 0.06, "{r}");
     }
-    assert_files(&dir, &["mfp.csv", "mfp.png", "mfp_free_path.png", "mfp_free_time.svg"]);
+    assert_files(
+        &dir,
+        &[
+            "mfp.csv",
+            "mfp.png",
+            "mfp_free_path.png",
+            "mfp_free_time.svg",
+        ],
+    );
+}
+
+#[test]
+fn demon_heats_one_side_and_cools_the_other_without_work() {
+    let (v, dir) = experiment(&["demon", "--n", "150", "--until", "3000"]);
+    let (start, end) = (v["start"].as_array().unwrap(), v["end"].as_array().unwrap());
+    let (l0, r0) = (start[0].as_f64().unwrap(), start[1].as_f64().unwrap());
+    let (l1, r1) = (end[0].as_f64().unwrap(), end[1].as_f64().unwrap());
+    assert!(
+        (r0 / l0 - 1.0).abs() < 0.3,
+        "sides start near the same temperature: {v}"
+    );
+    assert!(r1 > 1.5 * l1, "right should be much hotter: {v}");
+    assert!(
+        v["passed"].as_u64().unwrap() > 20 && v["shut"].as_u64().unwrap() > 20,
+        "{v}"
+    );
+    assert!(v["relative_energy_change"].as_f64().unwrap().abs() < 1e-12);
+    assert_files(&dir, &["demon.csv", "demon.png", "demon.svg"]);
+}
+
+#[test]
+fn diffusion_mixes_the_two_species_evenly() {
+    let (v, dir) = experiment(&["diffusion", "--n", "150", "--until", "2000"]);
+    assert!((v["blue_left"].as_f64().unwrap() - 0.5).abs() < 0.12, "{v}");
+    assert!(
+        (v["green_left"].as_f64().unwrap() - 0.5).abs() < 0.12,
+        "{v}"
+    );
+    assert!(v["mixing_time"].as_f64().is_some(), "{v}");
+    assert!(v["diffusion_coefficient"].as_f64().unwrap() > 0.0, "{v}");
+    assert_files(
+        &dir,
+        &["diffusion.csv", "diffusion.png", "diffusion_msd.csv"],
+    );
+}
+
+#[test]
+fn brownian_big_disc_diffuses() {
+    let (v, dir) = experiment(&[
+        "brownian",
+        "--n",
+        "500",
+        "--until",
+        "2000",
+        "--samples",
+        "400",
+    ]);
+    assert!(v["diffusion_coefficient"].as_f64().unwrap() > 0.0, "{v}");
+    assert!(v["relative_energy_change"].as_f64().unwrap().abs() < 1e-12);
+    assert_files(
+        &dir,
+        &[
+            "brownian_path.csv",
+            "brownian_path.png",
+            "brownian_msd.png",
+            "brownian_msd.svg",
+        ],
+    );
+}
+
+#[test]
+fn every_generator_writes_a_file_that_runs_and_the_seed_decides() {
+    let dir = tempfile::tempdir().unwrap();
+    for kind in [
+        "single",
+        "head-on",
+        "angled",
+        "one-red",
+        "lattice",
+        "diffusion1",
+        "diffusion2",
+        "dense",
+        "brownian",
+        "fluid",
+        "mixture",
+    ] {
+        let f = dir.path().join(format!("{kind}.txt"));
+        let g = dir.path().join(format!("{kind}-again.txt"));
+        for p in [&f, &g] {
+            let out = run(
+                "edmd",
+                &["gen", kind, "--seed", "5", "-o", p.to_str().unwrap()],
+                None,
+            );
+            assert!(
+                out.status.success(),
+                "{kind}: {}",
+                String::from_utf8_lossy(&out.stderr)
+            );
+        }
+        assert_eq!(
+            std::fs::read(&f).unwrap(),
+            std::fs::read(&g).unwrap(),
+            "{kind}: same seed, same file"
+        );
+        let out = run(
+            "edmd",
+            &["run", f.to_str().unwrap(), "--until", "10", "--check"],
+            None,
+        );
+        assert!(
+            out.status.success(),
+            "{kind}: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+    }
+    let a = dir.path().join("a.txt");
+    ok_stdout(&run(
+        "edmd",
+        &["gen", "fluid", "--seed", "6", "-o", a.to_str().unwrap()],
+        None,
+    ));
+    assert_ne!(
+        std::fs::read(&a).unwrap(),
+        std::fs::read(dir.path().join("fluid.txt")).unwrap()
+    );
+}
+
+#[test]
+fn generators_take_their_options_and_refuse_the_impossible() {
+    let dir = tempfile::tempdir().unwrap();
+    let f = dir.path().join("f.txt");
+    let fp = f.to_str().unwrap();
+    ok_stdout(&run(
+        "edmd",
+        &[
+            "gen",
+            "fluid",
+            "--n",
+            "300",
+            "--packing",
+            "0.7",
+            "--boundary",
+            "walls",
+            "-o",
+            fp,
+        ],
+        None,
+    ));
+    let text = std::fs::read_to_string(&f).unwrap();
+    assert_eq!(text.lines().next(), Some("300"));
+    assert!(
+        text.contains("# edmd box"),
+        "fluids say their box: {}",
+        &text[..200]
+    );
+    ok_stdout(&run(
+        "edmd",
+        &[
+            "gen",
+            "mixture",
+            "--spread",
+            "0.2",
+            "--packing",
+            "0.6",
+            "-o",
+            fp,
+        ],
+        None,
+    ));
+    ok_stdout(&run(
+        "edmd",
+        &["gen", "lattice", "--n", "50", "--course", "-o", fp],
+        None,
+    ));
+    assert_eq!(
+        std::fs::read_to_string(&f).unwrap().lines().nth(1),
+        Some("0.01")
+    );
+    for (args, expect) in [
+        (
+            vec!["gen", "fluid", "--packing", "0.95", "-o", fp],
+            "packing",
+        ),
+        (
+            vec!["gen", "fluid", "--n", "-4", "-o", fp],
+            "--n must be at least 1",
+        ),
+        (
+            vec!["gen", "single", "--packing", "0.3", "-o", fp],
+            "--packing does not apply",
+        ),
+        (vec!["gen", "warp-drive", "-o", fp], "unknown kind"),
+        (
+            vec![
+                "gen",
+                "mixture",
+                "--spread",
+                "0.1",
+                "--size-ratio",
+                "2",
+                "-o",
+                fp,
+            ],
+            "exclude each other",
+        ),
+        (
+            vec!["gen", "mixture", "--course", "-o", fp],
+            "course format",
+        ),
+        (vec!["experiment", "demon", "--door", "2"], "--door"),
+    ] {
+        let out = run("edmd", &args, None);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{args:?}: {err}");
+        assert!(
+            err.contains(expect) && err.lines().count() == 1,
+            "{args:?}: {err}"
+        );
+    }
 }

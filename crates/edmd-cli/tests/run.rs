@@ -409,20 +409,44 @@ fn measurements_write_csv_files_and_join_the_summary() {
     let meas = &s["measurements"];
     // Temperature is constant (energy is conserved): kT = sum m v^2 / 2N.
     let t = &meas["temperature"];
-    assert!((t["max"].as_f64().unwrap() / t["min"].as_f64().unwrap() - 1.0).abs() < 1e-12, "{t}");
+    assert!(
+        (t["max"].as_f64().unwrap() / t["min"].as_f64().unwrap() - 1.0).abs() < 1e-12,
+        "{t}"
+    );
     // Wall and virial pressure agree within their errors.
     let p = &meas["pressure"];
     let (pv, pw) = (&p["virial"], &p["wall"]);
     let diff = (pv["value"].as_f64().unwrap() - pw["value"].as_f64().unwrap()).abs();
-    let err = pv["error"].as_f64().unwrap().hypot(pw["error"].as_f64().unwrap());
+    let err = pv["error"]
+        .as_f64()
+        .unwrap()
+        .hypot(pw["error"].as_f64().unwrap());
     assert!(diff < 4.0 * err, "{p}");
-    assert!(meas["speeds"]["ks_p_value"].as_f64().unwrap() > 1e-3, "{meas}");
+    assert!(
+        meas["speeds"]["ks_p_value"].as_f64().unwrap() > 1e-3,
+        "{meas}"
+    );
     assert!(meas["collisions"]["mean_free_path"].as_f64().unwrap() > 0.0);
-    for f in ["temperature.csv", "pressure.csv", "collision_frequency.csv", "free_paths.csv", "free_times.csv", "speeds.csv", "msd.csv", "species.csv"] {
+    for f in [
+        "temperature.csv",
+        "pressure.csv",
+        "collision_frequency.csv",
+        "free_paths.csv",
+        "free_times.csv",
+        "speeds.csv",
+        "msd.csv",
+        "species.csv",
+    ] {
         let text = std::fs::read_to_string(m.join(f)).unwrap_or_else(|_| panic!("{f} missing"));
         assert!(text.lines().count() >= 3, "{f}: {text}");
     }
-    assert_eq!(std::fs::read_to_string(m.join("temperature.csv")).unwrap().lines().count(), 1 + 20);
+    assert_eq!(
+        std::fs::read_to_string(m.join("temperature.csv"))
+            .unwrap()
+            .lines()
+            .count(),
+        1 + 20
+    );
 }
 
 #[test]

@@ -39,5 +39,8 @@ pub use events::{BarrierHit, EventKind, EventRecord, Side, Wall};
 pub use math::{Vector, DIM};
 pub use observer::{CollisionCounter, Observer};
 pub use resolve::CollisionRule;
-pub use simulation::{MultiContact, Options, OverlapPolicy, OverlapReport, Simulation, Stats, MAX_BARRIERS, OVERLAP_TOLERANCE};
+pub use simulation::{
+    MultiContact, Options, OverlapPolicy, OverlapReport, Simulation, Stats, MAX_BARRIERS,
+    OVERLAP_TOLERANCE,
+};
 pub use state::{Barrier, Boundary, Colour, Demon, Disc, SimBox, System};

@@ -5,7 +5,9 @@ use std::path::{Path, PathBuf};
 
 use anyhow::Result;
 use clap::ValueEnum;
-use edmd_core::measure::{kinetic_temperature, Collisions, Diffusion, Pressure, SpeciesHalves, Speeds, Temperature};
+use edmd_core::measure::{
+    kinetic_temperature, Collisions, Diffusion, Pressure, SpeciesHalves, Speeds, Temperature,
+};
 use edmd_core::{EventRecord, Observer, Simulation};
 use serde_json::{json, Value};
 
@@ -43,10 +45,17 @@ impl Measurements {
     pub fn new(sim: &Simulation, which: &[Measure]) -> Self {
         let has = |m| which.contains(&m);
         let kt = kinetic_temperature(sim).max(f64::MIN_POSITIVE);
-        let m_min = (0..sim.len()).map(|i| sim.mass(i)).fold(f64::INFINITY, f64::min);
+        let m_min = (0..sim.len())
+            .map(|i| sim.mass(i))
+            .fold(f64::INFINITY, f64::min);
         let v_scale = (kt / m_min).sqrt();
         // Free paths: histogram range from the box size (dilute gases) down to the discs.
-        let l = sim.sim_box().lengths.iter().cloned().fold(f64::INFINITY, f64::min);
+        let l = sim
+            .sim_box()
+            .lengths
+            .iter()
+            .cloned()
+            .fold(f64::INFINITY, f64::min);
         Measurements {
             temperature: has(Measure::Temperature).then(Temperature::new),
             pressure: has(Measure::Pressure).then(|| Pressure::new(sim)),
@@ -81,8 +90,12 @@ impl Measurements {
 
     /// Writes the CSV files into `dir` and returns the summaries (as JSON) and the files.
     pub fn finish(&self, sim: &Simulation, dir: &Path) -> Result<(Value, Vec<PathBuf>)> {
-        std::fs::create_dir_all(dir)
-            .map_err(|e| crate::UserError(format!("{}: cannot create the measurement folder: {e}", dir.display())))?;
+        std::fs::create_dir_all(dir).map_err(|e| {
+            crate::UserError(format!(
+                "{}: cannot create the measurement folder: {e}",
+                dir.display()
+            ))
+        })?;
         let mut files = Vec::new();
         let mut out = serde_json::Map::new();
         let mut csv = |name: &str, header: &[&str], rows: Vec<Vec<f64>>| -> Result<()> {
@@ -92,13 +105,28 @@ impl Measurements {
             Ok(())
         };
         if let Some(m) = &self.temperature {
-            csv("temperature.csv", &["time", "kT"], m.series().iter().map(|&(t, k)| vec![t, k]).collect())?;
+            csv(
+                "temperature.csv",
+                &["time", "kT"],
+                m.series().iter().map(|&(t, k)| vec![t, k]).collect(),
+            )?;
             let s = m.summary();
-            out.insert("temperature".into(), json!({"samples": s.samples, "mean": s.mean, "min": s.min, "max": s.max}));
+            out.insert(
+                "temperature".into(),
+                json!({"samples": s.samples, "mean": s.mean, "min": s.min, "max": s.max}),
+            );
         }
         if let Some(m) = &self.pressure {
-            let rows = m.blocks().iter().map(|b| vec![b.start, b.end, b.virial, b.wall.unwrap_or(f64::NAN), b.z]).collect();
-            csv("pressure.csv", &["start", "end", "virial_pressure", "wall_pressure", "Z"], rows)?;
+            let rows = m
+                .blocks()
+                .iter()
+                .map(|b| vec![b.start, b.end, b.virial, b.wall.unwrap_or(f64::NAN), b.z])
+                .collect();
+            csv(
+                "pressure.csv",
+                &["start", "end", "virial_pressure", "wall_pressure", "Z"],
+                rows,
+            )?;
             let s = m.summary();
             let est = |e: &edmd_core::measure::Estimate| json!({"value": e.value, "error": e.error, "blocks": e.blocks});
             out.insert(
@@ -108,9 +136,32 @@ impl Measurements {
             );
         }
         if let Some(m) = &self.collisions {
-            csv("collision_frequency.csv", &["time", "collisions_per_disc_per_time"], m.frequency_series().iter().map(|&(t, f)| vec![t, f]).collect())?;
-            csv("free_paths.csv", &["free_path", "density"], m.free_path_histogram().density().iter().map(|&(x, y)| vec![x, y]).collect())?;
-            csv("free_times.csv", &["free_time", "density"], m.free_time_histogram().density().iter().map(|&(x, y)| vec![x, y]).collect())?;
+            csv(
+                "collision_frequency.csv",
+                &["time", "collisions_per_disc_per_time"],
+                m.frequency_series()
+                    .iter()
+                    .map(|&(t, f)| vec![t, f])
+                    .collect(),
+            )?;
+            csv(
+                "free_paths.csv",
+                &["free_path", "density"],
+                m.free_path_histogram()
+                    .density()
+                    .iter()
+                    .map(|&(x, y)| vec![x, y])
+                    .collect(),
+            )?;
+            csv(
+                "free_times.csv",
+                &["free_time", "density"],
+                m.free_time_histogram()
+                    .density()
+                    .iter()
+                    .map(|&(x, y)| vec![x, y])
+                    .collect(),
+            )?;
             let s = m.summary();
             out.insert(
                 "collisions".into(),
@@ -120,7 +171,14 @@ impl Measurements {
         }
         if let Some(m) = &self.speeds {
             let kt = kinetic_temperature(sim);
-            csv("speeds.csv", &["speed", "density", "rayleigh_density"], m.histogram_vs_rayleigh(kt).iter().map(|&(v, h, r)| vec![v, h, r]).collect())?;
+            csv(
+                "speeds.csv",
+                &["speed", "density", "rayleigh_density"],
+                m.histogram_vs_rayleigh(kt)
+                    .iter()
+                    .map(|&(v, h, r)| vec![v, h, r])
+                    .collect(),
+            )?;
             let s = m.summary(kt);
             out.insert(
                 "speeds".into(),
@@ -129,7 +187,11 @@ impl Measurements {
             );
         }
         if let Some(m) = &self.msd {
-            csv("msd.csv", &["time", "msd"], m.series().iter().map(|&(t, d)| vec![t, d]).collect())?;
+            csv(
+                "msd.csv",
+                &["time", "msd"],
+                m.series().iter().map(|&(t, d)| vec![t, d]).collect(),
+            )?;
             let fit = m.summary();
             out.insert("msd".into(), json!({"diffusion_coefficient": fit.map(|f| f.coefficient), "fit_from": fit.map(|f| f.from), "fit_to": fit.map(|f| f.to)}));
         }
@@ -154,7 +216,10 @@ impl Measurements {
             let h: Vec<&str> = header.iter().map(String::as_str).collect();
             csv("species.csv", &h, rows)?;
             let s = m.summary();
-            out.insert("species".into(), json!({"samples": s.samples, "overall": s.overall, "last": s.last}));
+            out.insert(
+                "species".into(),
+                json!({"samples": s.samples, "overall": s.overall, "last": s.last}),
+            );
         }
         Ok((Value::Object(out), files))
     }

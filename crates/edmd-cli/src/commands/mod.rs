@@ -2,6 +2,7 @@
 
 pub mod bench;
 pub mod experiment;
+pub mod gen;
 pub mod measurements;
 pub mod particles;
 pub mod run;

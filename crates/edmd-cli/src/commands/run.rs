@@ -6,16 +6,16 @@ use std::time::Instant;
 
 use anyhow::Result;
 use edmd_core::{
-    MultiContact,
-    CollisionRule, Observer, Options, OverlapPolicy, Simulation, Stats, OVERLAP_TOLERANCE,
+    CollisionRule, MultiContact, Observer, Options, OverlapPolicy, Simulation, Stats,
+    OVERLAP_TOLERANCE,
 };
 use edmd_io::princeton::ColumnOrder;
 use edmd_io::Format;
 use serde::Serialize;
 
 use crate::args::{ColumnsArg, FormatArg, RuleArg, RunArgs};
-use crate::input::{build, load, read_text};
 use crate::commands::measurements::Measurements;
+use crate::input::{build, load, read_text};
 use crate::output::AtomicFile;
 use crate::user_error;
 
@@ -75,7 +75,15 @@ pub fn run(args: &RunArgs) -> Result<()> {
         OverlapPolicy::Refuse
     };
     let multi = args.multi.then(MultiContact::default);
-    let mut sim = build(&args.file, &sys, Options { rule, overlaps, multi })?;
+    let mut sim = build(
+        &args.file,
+        &sys,
+        Options {
+            rule,
+            overlaps,
+            multi,
+        },
+    )?;
     if let (Some(path), Some(_)) = (&args.output, &args.trajectory) {
         if Path::new(path) == args.trajectory.as_deref().unwrap() {
             return user_error(format!(
@@ -99,12 +107,19 @@ pub fn run(args: &RunArgs) -> Result<()> {
     let mut frames = 0u64;
     let mut obs = Measurements::new(&sim, &args.measure);
     // Stops: trajectory frames at k * every, measurement samples at k * sample_every.
-    let sample_dt = (!args.measure.is_empty()).then(|| args.sample_every.unwrap_or(args.until / 100.0)).filter(|d| *d > 0.0);
+    let sample_dt = (!args.measure.is_empty())
+        .then(|| args.sample_every.unwrap_or(args.until / 100.0))
+        .filter(|d| *d > 0.0);
     let mut next_frame = traj.as_ref().and(args.every).map(|_| 0.0);
     let mut samples = 0u64;
     loop {
-        let next_sample = sample_dt.map(|d| (samples + 1) as f64 * d).filter(|t| *t <= args.until);
-        let next = [next_frame, next_sample].into_iter().flatten().fold(f64::INFINITY, f64::min);
+        let next_sample = sample_dt
+            .map(|d| (samples + 1) as f64 * d)
+            .filter(|t| *t <= args.until);
+        let next = [next_frame, next_sample]
+            .into_iter()
+            .flatten()
+            .fold(f64::INFINITY, f64::min);
         if next > args.until {
             break;
         }
@@ -188,8 +203,14 @@ pub fn run(args: &RunArgs) -> Result<()> {
     } else {
         let mut t = human(&summary);
         if !measured.is_null() {
-            t += &format!("\nmeasurements: {}", serde_json::to_string_pretty(&measured)?);
-            t += &format!("\n{}", crate::commands::experiment::common::files_line(&files));
+            t += &format!(
+                "\nmeasurements: {}",
+                serde_json::to_string_pretty(&measured)?
+            );
+            t += &format!(
+                "\n{}",
+                crate::commands::experiment::common::files_line(&files)
+            );
         }
         t
     };

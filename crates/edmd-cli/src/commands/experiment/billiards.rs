@@ -78,7 +78,11 @@ fn rack(rows: usize, gap: f64, offset: f64) -> (Vec<Disc>, usize) {
             discs.push(disc);
         }
     }
-    let mut cue = Disc::new(Vector::new([0.5 + offset * 2.0 * R, 0.15]), Vector::new([0.0, 0.5]), R);
+    let mut cue = Disc::new(
+        Vector::new([0.5 + offset * 2.0 * R, 0.15]),
+        Vector::new([0.0, 0.5]),
+        R,
+    );
     cue.colour = [240, 240, 240];
     discs.push(cue);
     (discs, rows * (rows + 1) / 2)
@@ -90,7 +94,8 @@ fn twins(discs: &[Disc]) -> Vec<Option<usize>> {
         .iter()
         .map(|d| {
             (0..discs.len()).find(|&j| {
-                (discs[j].pos[0] - (1.0 - d.pos[0])).abs() < 1e-9 && (discs[j].pos[1] - d.pos[1]).abs() < 1e-9
+                (discs[j].pos[0] - (1.0 - d.pos[0])).abs() < 1e-9
+                    && (discs[j].pos[1] - d.pos[1]).abs() < 1e-9
             })
         })
         .collect()
@@ -117,8 +122,24 @@ pub fn run(args: &BilliardsArgs) -> Result<()> {
     let strike = (0.6 - 0.15 - 2.0 * R) / 0.5;
     let mut breaks = Vec::new();
     let mut files = Vec::new();
-    for (model, multi) in [("multi", Some(MultiContact { tolerance: 0.04, exponent: 1.5 })), ("binary", None)] {
-        let mut sim = Simulation::new(&discs, SimBox::unit(), Options { multi, ..Default::default() })?;
+    for (model, multi) in [
+        (
+            "multi",
+            Some(MultiContact {
+                tolerance: 0.04,
+                exponent: 1.5,
+            }),
+        ),
+        ("binary", None),
+    ] {
+        let mut sim = Simulation::new(
+            &discs,
+            SimBox::unit(),
+            Options {
+                multi,
+                ..Default::default()
+            },
+        )?;
         let e0 = sim.kinetic_energy();
         sim.run_until(strike + 0.02, &mut ());
         let mismatch = twins
@@ -130,7 +151,9 @@ pub fn run(args: &BilliardsArgs) -> Result<()> {
                 (vi[0] + vj[0]).abs().max((vi[1] - vj[1]).abs())
             })
             .fold(0.0, f64::max);
-        let moving = (0..sim.len()).filter(|&i| sim.velocity(i).norm2() > 1e-12).count();
+        let moving = (0..sim.len())
+            .filter(|&i| sim.velocity(i).norm2() > 1e-12)
+            .count();
         // Follow the balls.
         let steps = 200;
         let mut paths: Vec<Vec<(f64, f64)>> = vec![Vec::new(); discs.len()];
@@ -147,22 +170,48 @@ pub fn run(args: &BilliardsArgs) -> Result<()> {
         let csv = dir.join(format!("billiards_{model}.csv"));
         write_csv(&csv, &["time", "ball", "x", "y"], rows)?;
         let mut fig = Figure::new(
-            &format!("Break with {} collisions (offset {} diameters)", if multi.is_some() { "multi-disc" } else { "binary" }, args.offset),
+            &format!(
+                "Break with {} collisions (offset {} diameters)",
+                if multi.is_some() {
+                    "multi-disc"
+                } else {
+                    "binary"
+                },
+                args.offset
+            ),
             "x (box lengths)",
             "y (box lengths)",
         )
         .with_x_range(0.0, 1.0)
         .with_y_range(0.0, 1.0);
         for (i, p) in paths.into_iter().enumerate() {
-            let label = if i == n_rack { "cue ball".to_string() } else if i == 0 { "rack balls".to_string() } else { String::new() };
-            let colour = if i == n_rack { [30, 30, 30] } else { [200, 40, 40] };
+            let label = if i == n_rack {
+                "cue ball".to_string()
+            } else if i == 0 {
+                "rack balls".to_string()
+            } else {
+                String::new()
+            };
+            let colour = if i == n_rack {
+                [30, 30, 30]
+            } else {
+                [200, 40, 40]
+            };
             fig = fig.with(Series::line(&label, p).coloured(colour));
         }
         let (png, svg) = fig.save(&dir.join(format!("billiards_{model}")))?;
         files.extend([csv, png, svg]);
-        breaks.push(Break { model, mirror_mismatch: mismatch, moving, relative_energy_change: (sim.kinetic_energy() - e0) / e0 });
+        breaks.push(Break {
+            model,
+            mirror_mismatch: mismatch,
+            moving,
+            relative_energy_change: (sim.kinetic_energy() - e0) / e0,
+        });
     }
-    let mut human = format!("break of a {}-ball rack, cue offset {} diameters:\n", n_rack, args.offset);
+    let mut human = format!(
+        "break of a {}-ball rack, cue offset {} diameters:\n",
+        n_rack, args.offset
+    );
     for b in &breaks {
         human += &format!(
             "  {:6}: mirror mismatch {:.2e}, {} balls moving, energy change {:.1e}\n",
@@ -170,5 +219,13 @@ pub fn run(args: &BilliardsArgs) -> Result<()> {
         );
     }
     human += &files_line(&files);
-    report(&args.common, &Summary { experiment: "billiards", balls: discs.len(), breaks }, &human)
+    report(
+        &args.common,
+        &Summary {
+            experiment: "billiards",
+            balls: discs.len(),
+            breaks,
+        },
+        &human,
+    )
 }

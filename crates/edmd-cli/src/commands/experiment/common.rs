@@ -44,13 +44,21 @@ pub fn stop_requested() -> bool {
 
 /// Creates the output folder.
 pub fn out_dir(common: &CommonArgs) -> Result<&Path> {
-    std::fs::create_dir_all(&common.out_dir)
-        .map_err(|e| crate::UserError(format!("{}: cannot create the output folder: {e}", common.out_dir.display())))?;
+    std::fs::create_dir_all(&common.out_dir).map_err(|e| {
+        crate::UserError(format!(
+            "{}: cannot create the output folder: {e}",
+            common.out_dir.display()
+        ))
+    })?;
     Ok(&common.out_dir)
 }
 
 /// Writes a CSV file (header line, then one row per record), whole or not at all.
-pub fn write_csv(path: &Path, header: &[&str], rows: impl IntoIterator<Item = Vec<f64>>) -> Result<()> {
+pub fn write_csv(
+    path: &Path,
+    header: &[&str],
+    rows: impl IntoIterator<Item = Vec<f64>>,
+) -> Result<()> {
     let mut f = AtomicFile::create(path)?;
     let w = f.writer();
     writeln!(w, "{}", header.join(","))?;
@@ -71,7 +79,9 @@ impl Progress {
             return Progress(None);
         }
         let pb = indicatif::ProgressBar::new(len);
-        if let Ok(style) = indicatif::ProgressStyle::with_template(&format!("{label} {{bar:40}} {{pos}}/{{len}} {{elapsed}} (eta {{eta}})")) {
+        if let Ok(style) = indicatif::ProgressStyle::with_template(&format!(
+            "{label} {{bar:40}} {{pos}}/{{len}} {{elapsed}} (eta {{eta}})"
+        )) {
             pb.set_style(style);
         }
         Progress(Some(pb))
@@ -111,8 +121,15 @@ pub fn files_line(paths: &[PathBuf]) -> String {
 /// A fluid of `n` equal discs (diameter 1, mass 1, kT = 1) at `packing`, melted from a lattice
 /// by `melt` disc-disc collisions per disc, and its collision rate per disc per unit time
 /// (measured while melting, to size the measuring runs).
-pub fn melted_fluid(n: usize, packing: f64, boundary: edmd_core::Boundary, seed: u64, melt: u64) -> Result<(edmd_core::Simulation, f64)> {
-    let (discs, bx) = edmd_core::setup::lattice_fluid(n, packing, boundary, seed).or_else(|e| crate::user_error(e.to_string()))?;
+pub fn melted_fluid(
+    n: usize,
+    packing: f64,
+    boundary: edmd_core::Boundary,
+    seed: u64,
+    melt: u64,
+) -> Result<(edmd_core::Simulation, f64)> {
+    let (discs, bx) = edmd_core::setup::lattice_fluid(n, packing, boundary, seed)
+        .or_else(|e| crate::user_error(e.to_string()))?;
     let mut sim = edmd_core::Simulation::new(&discs, bx, edmd_core::Options::default())?;
     while sim.stats().disc_disc < melt * n as u64 {
         sim.run_events(10_000, &mut ());
@@ -127,7 +144,9 @@ pub fn check_packings(name: &str, packings: &[f64], max: f64) -> Result<()> {
         return crate::user_error(format!("{name}: give at least one packing fraction"));
     }
     if let Some(p) = packings.iter().find(|&&p| !(p > 0.0 && p < max)) {
-        return crate::user_error(format!("{name}: packing fraction {p} is outside (0, {max})"));
+        return crate::user_error(format!(
+            "{name}: packing fraction {p} is outside (0, {max})"
+        ));
     }
     Ok(())
 }

@@ -13,7 +13,10 @@ use edmd_core::Boundary;
 use edmd_plot::{Figure, Series};
 use serde::Serialize;
 
-use super::common::{check_n, check_packings, files_line, melted_fluid, out_dir, report, stop_requested, write_csv, CommonArgs, Progress};
+use super::common::{
+    check_n, check_packings, files_line, melted_fluid, out_dir, report, stop_requested, write_csv,
+    CommonArgs, Progress,
+};
 
 /// Options of `edmd experiment eos`.
 #[derive(Debug, Args)]
@@ -84,7 +87,13 @@ pub fn run(args: &EosArgs) -> Result<()> {
     let progress = Progress::new((args.packing.len() * args.blocks) as u64, "eos");
     let mut results = Vec::new();
     'packings: for (k, &eta) in args.packing.iter().enumerate() {
-        let (mut sim, rate) = melted_fluid(args.n, eta, Boundary::Periodic, args.common.seed + k as u64, args.melt)?;
+        let (mut sim, rate) = melted_fluid(
+            args.n,
+            eta,
+            Boundary::Periodic,
+            args.common.seed + k as u64,
+            args.melt,
+        )?;
         let block = args.measure as f64 / args.blocks as f64 / rate;
         let mut pressure = Pressure::new(&sim);
         let c0 = sim.stats().disc_disc;
@@ -98,21 +107,40 @@ pub fn run(args: &EosArgs) -> Result<()> {
             progress.set((k * args.blocks + b + 1) as u64);
         }
         let z = pressure.summary().z;
-        results.push(Point { packing: eta, z: z.value, z_err: z.error, henderson: henderson(eta), collisions: sim.stats().disc_disc - c0 });
+        results.push(Point {
+            packing: eta,
+            z: z.value,
+            z_err: z.error,
+            henderson: henderson(eta),
+            collisions: sim.stats().disc_disc - c0,
+        });
     }
     progress.finish();
     let interrupted = results.len() < args.packing.len();
     let csv = dir.join("eos.csv");
-    write_csv(&csv, &["packing", "Z", "Z_err", "henderson"], results.iter().map(|p| vec![p.packing, p.z, p.z_err, p.henderson]))?;
+    write_csv(
+        &csv,
+        &["packing", "Z", "Z_err", "henderson"],
+        results
+            .iter()
+            .map(|p| vec![p.packing, p.z, p.z_err, p.henderson]),
+    )?;
     let top = args.packing.iter().cloned().fold(0.0, f64::max);
-    let curve: Vec<(f64, f64)> = (0..=200).map(|i| top * i as f64 / 200.0).map(|e| (e, henderson(e))).collect();
+    let curve: Vec<(f64, f64)> = (0..=200)
+        .map(|i| top * i as f64 / 200.0)
+        .map(|e| (e, henderson(e)))
+        .collect();
     let (png, svg) = Figure::new(
         &format!("Hard-disc equation of state ({} discs, periodic)", args.n),
         "packing fraction eta",
         "compressibility factor Z = PA / (N kT)",
     )
     .with(Series::line("Henderson (1 + eta^2/8) / (1 - eta)^2", curve))
-    .with(Series::error_bars("edmd, collision virial", results.iter().map(|p| (p.packing, p.z)).collect(), results.iter().map(|p| p.z_err).collect()))
+    .with(Series::error_bars(
+        "edmd, collision virial",
+        results.iter().map(|p| (p.packing, p.z)).collect(),
+        results.iter().map(|p| p.z_err).collect(),
+    ))
     .save(&dir.join("eos"))?;
     let mut human = format!("equation of state, {} discs, periodic box:\n  packing        Z     error  Henderson  deviation\n", args.n);
     for p in &results {
@@ -129,5 +157,14 @@ pub fn run(args: &EosArgs) -> Result<()> {
         human += "interrupted: results so far\n";
     }
     human += &files_line(&[csv, png, svg]);
-    report(&args.common, &Summary { experiment: "eos", n: args.n, results, interrupted }, &human)
+    report(
+        &args.common,
+        &Summary {
+            experiment: "eos",
+            n: args.n,
+            results,
+            interrupted,
+        },
+        &human,
+    )
 }

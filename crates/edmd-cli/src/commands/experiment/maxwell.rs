@@ -14,7 +14,10 @@ use edmd_plot::{Figure, Series};
 use rand::{Rng, SeedableRng};
 use serde::Serialize;
 
-use super::common::{check_n, check_packings, files_line, out_dir, report, stop_requested, write_csv, CommonArgs, Progress};
+use super::common::{
+    check_n, check_packings, files_line, out_dir, report, stop_requested, write_csv, CommonArgs,
+    Progress,
+};
 
 /// Options of `edmd experiment maxwell`.
 #[derive(Debug, Args)]
@@ -69,12 +72,21 @@ pub fn run(args: &MaxwellArgs) -> Result<()> {
         return crate::user_error("maxwell: --snapshots must be >= 1 and --bins >= 2");
     }
     let dir = out_dir(&args.common)?;
-    let (mut discs, bx) = lattice_fluid(args.n, args.packing, Boundary::Periodic, args.common.seed).or_else(|e| crate::user_error(format!("maxwell: {e}")))?;
+    let (mut discs, bx) = lattice_fluid(args.n, args.packing, Boundary::Periodic, args.common.seed)
+        .or_else(|e| crate::user_error(format!("maxwell: {e}")))?;
     // Equal speeds sqrt(2) (kT = 1), random directions in opposite pairs (zero momentum).
     let mut rng = rand_pcg::Pcg64Mcg::seed_from_u64(args.common.seed);
     for k in 0..discs.len() {
-        let a: f64 = if k % 2 == 1 { std::f64::consts::PI } else { rng.random::<f64>() * std::f64::consts::TAU };
-        let base = if k % 2 == 1 { discs[k - 1].vel } else { Vector::new([2f64.sqrt(), 0.0]) };
+        let a: f64 = if k % 2 == 1 {
+            std::f64::consts::PI
+        } else {
+            rng.random::<f64>() * std::f64::consts::TAU
+        };
+        let base = if k % 2 == 1 {
+            discs[k - 1].vel
+        } else {
+            Vector::new([2f64.sqrt(), 0.0])
+        };
         let (s, c) = a.sin_cos();
         discs[k].vel = Vector::new([base[0] * c - base[1] * s, base[0] * s + base[1] * c]);
     }
@@ -106,14 +118,27 @@ pub fn run(args: &MaxwellArgs) -> Result<()> {
     let s = speeds.summary(kt);
     let rows = speeds.histogram_vs_rayleigh(kt);
     let csv = dir.join("maxwell.csv");
-    write_csv(&csv, &["speed", "measured_density", "rayleigh_density"], rows.iter().map(|&(v, h, r)| vec![v, h, r]))?;
-    let curve: Vec<(f64, f64)> = (0..=300).map(|i| max * i as f64 / 300.0).map(|v| (v, edmd_core::measure::rayleigh_pdf(v, 1.0, kt))).collect();
+    write_csv(
+        &csv,
+        &["speed", "measured_density", "rayleigh_density"],
+        rows.iter().map(|&(v, h, r)| vec![v, h, r]),
+    )?;
+    let curve: Vec<(f64, f64)> = (0..=300)
+        .map(|i| max * i as f64 / 300.0)
+        .map(|v| (v, edmd_core::measure::rayleigh_pdf(v, 1.0, kt)))
+        .collect();
     let (png, svg) = Figure::new(
-        &format!("Speeds of {} discs at packing {} (KS p = {:.2})", args.n, args.packing, s.ks.p_value),
+        &format!(
+            "Speeds of {} discs at packing {} (KS p = {:.2})",
+            args.n, args.packing, s.ks.p_value
+        ),
         "speed v (units of sqrt(kT/m) at kT = 1)",
         "probability density",
     )
-    .with(Series::bars("measured", rows.iter().map(|&(v, h, _)| (v, h)).collect()))
+    .with(Series::bars(
+        "measured",
+        rows.iter().map(|&(v, h, _)| (v, h)).collect(),
+    ))
     .with(Series::line(&format!("Rayleigh at kT = {kt:.4}"), curve))
     .save(&dir.join("maxwell"))?;
     let human = format!(

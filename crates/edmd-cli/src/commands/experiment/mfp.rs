@@ -14,7 +14,10 @@ use edmd_core::Boundary;
 use edmd_plot::{Figure, Series};
 use serde::Serialize;
 
-use super::common::{check_n, check_packings, files_line, melted_fluid, out_dir, report, stop_requested, write_csv, CommonArgs, Progress};
+use super::common::{
+    check_n, check_packings, files_line, melted_fluid, out_dir, report, stop_requested, write_csv,
+    CommonArgs, Progress,
+};
 
 /// Options of `edmd experiment mfp`.
 #[derive(Debug, Args)]
@@ -82,13 +85,22 @@ pub fn run(args: &MfpArgs) -> Result<()> {
         if stop_requested() {
             break;
         }
-        let (mut sim, rate) = melted_fluid(args.n, eta, Boundary::Periodic, args.common.seed + k as u64, 20)?;
+        let (mut sim, rate) = melted_fluid(
+            args.n,
+            eta,
+            Boundary::Periodic,
+            args.common.seed + k as u64,
+            20,
+        )?;
         let lambda = enskog_mean_free_path(eta);
         let mut obs = Collisions::new(&sim, 60, 5.0 * lambda, 5.0 * lambda / 1.25);
         let t_end = sim.time() + args.measure as f64 / rate;
         let blocks = 10;
         for b in 1..=blocks {
-            sim.run_until(sim.time() + (t_end - sim.time()) / (blocks - b + 1) as f64, &mut obs);
+            sim.run_until(
+                sim.time() + (t_end - sim.time()) / (blocks - b + 1) as f64,
+                &mut obs,
+            );
             obs.sample(&sim);
         }
         let s = obs.summary();
@@ -96,11 +108,22 @@ pub fn run(args: &MfpArgs) -> Result<()> {
         let g = (1.0 - 7.0 * eta / 16.0) / ((1.0 - eta) * (1.0 - eta));
         let omega = 2.0 * density * g * std::f64::consts::PI.sqrt();
         if k == 0 {
-            for (name, h, unit) in [("path", obs.free_path_histogram(), "diameters"), ("time", obs.free_time_histogram(), "time units")] {
+            for (name, h, unit) in [
+                ("path", obs.free_path_histogram(), "diameters"),
+                ("time", obs.free_time_histogram(), "time units"),
+            ] {
                 let rows: Vec<(f64, f64)> = h.density();
                 let csv = dir.join(format!("mfp_free_{name}.csv"));
-                write_csv(&csv, &[&format!("free_{name}"), "density"], rows.iter().map(|&(x, y)| vec![x, y]))?;
-                let mean = if name == "path" { s.mean_free_path } else { s.mean_free_time };
+                write_csv(
+                    &csv,
+                    &[&format!("free_{name}"), "density"],
+                    rows.iter().map(|&(x, y)| vec![x, y]),
+                )?;
+                let mean = if name == "path" {
+                    s.mean_free_path
+                } else {
+                    s.mean_free_time
+                };
                 let (png, svg) = Figure::new(
                     &format!("Free {name}s at packing {eta} (mean {mean:.4})"),
                     &format!("free {name} ({unit})"),
@@ -126,27 +149,76 @@ pub fn run(args: &MfpArgs) -> Result<()> {
     let csv = dir.join("mfp.csv");
     write_csv(
         &csv,
-        &["packing", "density", "mean_free_path", "enskog_mean_free_path", "mean_free_time", "collision_frequency", "enskog_collision_frequency"],
-        results.iter().map(|p| vec![p.packing, p.density, p.mean_free_path, p.enskog_mean_free_path, p.mean_free_time, p.collision_frequency[0], p.collision_frequency[1]]),
+        &[
+            "packing",
+            "density",
+            "mean_free_path",
+            "enskog_mean_free_path",
+            "mean_free_time",
+            "collision_frequency",
+            "enskog_collision_frequency",
+        ],
+        results.iter().map(|p| {
+            vec![
+                p.packing,
+                p.density,
+                p.mean_free_path,
+                p.enskog_mean_free_path,
+                p.mean_free_time,
+                p.collision_frequency[0],
+                p.collision_frequency[1],
+            ]
+        }),
     )?;
     let top = args.packing.iter().cloned().fold(0.0, f64::max);
     let curve: Vec<(f64, f64)> = (1..=200)
         .map(|i| top * i as f64 / 200.0)
         .map(|e| (e / (std::f64::consts::PI / 4.0), enskog_mean_free_path(e)))
         .collect();
-    let (png, svg) = Figure::new(&format!("Mean free path ({} discs, periodic)", args.n), "number density n (discs per diameter^2)", "mean free path (diameters)")
-        .with_log_y()
-        .with(Series::line("Enskog 1 / (2 sqrt(2) n sigma g(sigma))", curve))
-        .with(Series::points("edmd", results.iter().map(|p| (p.density, p.mean_free_path)).collect()))
-        .save(&dir.join("mfp"))?;
+    let (png, svg) = Figure::new(
+        &format!("Mean free path ({} discs, periodic)", args.n),
+        "number density n (discs per diameter^2)",
+        "mean free path (diameters)",
+    )
+    .with_log_y()
+    .with(Series::line(
+        "Enskog 1 / (2 sqrt(2) n sigma g(sigma))",
+        curve,
+    ))
+    .with(Series::points(
+        "edmd",
+        results
+            .iter()
+            .map(|p| (p.density, p.mean_free_path))
+            .collect(),
+    ))
+    .save(&dir.join("mfp"))?;
     files.extend([csv, png, svg]);
-    let mut human = format!("mean free path, {} discs, periodic box:\n  packing  measured  Enskog   deviation\n", args.n);
+    let mut human = format!(
+        "mean free path, {} discs, periodic box:\n  packing  measured  Enskog   deviation\n",
+        args.n
+    );
     for p in &results {
-        human += &format!("  {:7.3}  {:8.4}  {:8.4}  {:+.1}%\n", p.packing, p.mean_free_path, p.enskog_mean_free_path, 100.0 * (p.mean_free_path / p.enskog_mean_free_path - 1.0));
+        human += &format!(
+            "  {:7.3}  {:8.4}  {:8.4}  {:+.1}%\n",
+            p.packing,
+            p.mean_free_path,
+            p.enskog_mean_free_path,
+            100.0 * (p.mean_free_path / p.enskog_mean_free_path - 1.0)
+        );
     }
     if interrupted {
         human += "interrupted: results so far\n";
     }
     human += &files_line(&files);
-    report(&args.common, &Summary { experiment: "mfp", n: args.n, results, interrupted }, &human)
+    report(
+        &args.common,
+        &Summary {
+            experiment: "mfp",
+            n: args.n,
+            results,
+            interrupted,
+        },
+        &human,
+    )
 }

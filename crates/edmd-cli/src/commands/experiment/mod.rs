@@ -2,7 +2,10 @@
 //! prints a summary and writes CSV files and plots (PNG and SVG) into `--out-dir`.
 
 pub mod billiards;
+pub mod brownian;
 pub mod common;
+pub mod demon;
+pub mod diffusion;
 pub mod eos;
 pub mod maxwell;
 pub mod mfp;
@@ -16,6 +19,12 @@ use clap::Subcommand;
 pub enum Experiment {
     /// Break a racked triangle with multi-disc and with binary collisions; plot both.
     Billiards(billiards::BilliardsArgs),
+    /// Brownian motion: the path and mean square displacement of one big disc among small ones.
+    Brownian(brownian::BrownianArgs),
+    /// Maxwell's demon: a door that sorts fast from slow discs; the temperature of each side.
+    Demon(demon::DemonArgs),
+    /// Two gases mixing after the partition between them is removed.
+    Diffusion(diffusion::DiffusionArgs),
     /// The equation of state: Z = PA/(NkT) against packing, with Henderson's formula.
     Eos(eos::EosArgs),
     /// The speed histogram against the 2D Maxwell-Boltzmann (Rayleigh) law.
@@ -31,6 +40,9 @@ pub fn run(which: &Experiment) -> Result<()> {
     common::install_ctrlc();
     match which {
         Experiment::Billiards(a) => billiards::run(a),
+        Experiment::Brownian(a) => brownian::run(a),
+        Experiment::Demon(a) => demon::run(a),
+        Experiment::Diffusion(a) => diffusion::run(a),
         Experiment::Eos(a) => eos::run(a),
         Experiment::Maxwell(a) => maxwell::run(a),
         Experiment::Mfp(a) => mfp::run(a),

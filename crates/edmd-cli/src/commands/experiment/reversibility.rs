@@ -91,7 +91,11 @@ pub fn run(args: &ReversibilityArgs) -> Result<()> {
         let collisions = sim.stats().disc_disc;
         sim.reverse_velocities();
         sim.run_until(2.0 * t, &mut ());
-        let d2: Vec<f64> = start.iter().enumerate().map(|(i, d)| (sim.position(i) - d.pos).norm2()).collect();
+        let d2: Vec<f64> = start
+            .iter()
+            .enumerate()
+            .map(|(i, d)| (sim.position(i) - d.pos).norm2())
+            .collect();
         let max = d2.iter().cloned().fold(0.0, f64::max).sqrt() / diameter;
         let rms = (d2.iter().sum::<f64>() / d2.len() as f64).sqrt() / diameter;
         runs.push(Run {
@@ -109,11 +113,29 @@ pub fn run(args: &ReversibilityArgs) -> Result<()> {
     let csv = dir.join("reversibility.csv");
     write_csv(
         &csv,
-        &["time", "collisions", "max_error_diameters", "rms_error_diameters", "relative_energy_change"],
-        runs.iter().map(|r| vec![r.time, r.collisions as f64, r.max_error, r.rms_error, r.relative_energy_change]),
+        &[
+            "time",
+            "collisions",
+            "max_error_diameters",
+            "rms_error_diameters",
+            "relative_energy_change",
+        ],
+        runs.iter().map(|r| {
+            vec![
+                r.time,
+                r.collisions as f64,
+                r.max_error,
+                r.rms_error,
+                r.relative_energy_change,
+            ]
+        }),
     )?;
     let floor = 1e-17;
-    let pts = |f: fn(&Run) -> f64| -> Vec<(f64, f64)> { runs.iter().map(|r| (r.collisions as f64, f(r).max(floor))).collect() };
+    let pts = |f: fn(&Run) -> f64| -> Vec<(f64, f64)> {
+        runs.iter()
+            .map(|r| (r.collisions as f64, f(r).max(floor)))
+            .collect()
+    };
     let (png, svg) = Figure::new(
         &format!("Time reversal: {} discs, packing {}", args.n, args.packing),
         "disc-disc collisions on the way forward",
@@ -124,7 +146,10 @@ pub fn run(args: &ReversibilityArgs) -> Result<()> {
     .with(Series::points("root mean square", pts(|r| r.rms_error)))
     .save(&dir.join("reversibility"))?;
 
-    let mut human = format!("time reversal of {} discs at packing {}:\n  time  collisions  max error (diameters)\n", args.n, args.packing);
+    let mut human = format!(
+        "time reversal of {} discs at packing {}:\n  time  collisions  max error (diameters)\n",
+        args.n, args.packing
+    );
     for r in &runs {
         human += &format!("{:6}  {:10}  {:.3e}\n", r.time, r.collisions, r.max_error);
     }
@@ -132,6 +157,12 @@ pub fn run(args: &ReversibilityArgs) -> Result<()> {
         human += "interrupted: results so far\n";
     }
     human += &files_line(&[csv, png, svg]);
-    let summary = Summary { experiment: "reversibility", n: args.n, packing: args.packing, runs, interrupted };
+    let summary = Summary {
+        experiment: "reversibility",
+        n: args.n,
+        packing: args.packing,
+        runs,
+        interrupted,
+    };
     report(&args.common, &summary, &human)
 }

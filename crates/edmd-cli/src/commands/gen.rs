@@ -1,0 +1,269 @@
+//! `edmd gen KIND [options] --seed S -o FILE`: write a configuration.
+//!
+//! Every kind starts from its documented defaults (`edmd_core::setup::generators`); each
+//! option overrides one parameter, and an option that a kind does not have is an error rather
+//! than silently ignored.
+
+use std::path::Path;
+
+use anyhow::Result;
+use clap::Args;
+use edmd_core::setup::generators::{generate, GenKind};
+use edmd_core::setup::Sizes;
+use edmd_core::Boundary;
+use edmd_io::princeton::ColumnOrder;
+use edmd_io::Format;
+
+use crate::args::BoundaryArg;
+use crate::output::AtomicFile;
+use crate::user_error;
+
+/// Options of `edmd gen`.
+#[derive(Debug, Args)]
+pub struct GenArgs {
+    /// What to generate: single, head-on, angled, one-red, lattice, diffusion1, diffusion2,
+    /// dense, brownian, fluid, mixture.
+    pub kind: String,
+    /// Output file (`-` for standard output).
+    #[arg(long, short, value_name = "FILE")]
+    pub output: String,
+    /// Random seed: the same seed gives the same file.
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// Write the course format instead of the Princeton format (equal discs in a walled box).
+    #[arg(long)]
+    pub course: bool,
+    /// Number of discs (for diffusion2: per side; for one-red and brownian: the crowd).
+    #[arg(long, allow_negative_numbers = true)]
+    pub n: Option<i64>,
+    /// Disc radius (brownian: the small discs).
+    #[arg(long, allow_negative_numbers = true)]
+    pub radius: Option<f64>,
+    /// Disc speed.
+    #[arg(long, allow_negative_numbers = true)]
+    pub speed: Option<f64>,
+    /// Disc mass (brownian: the small discs).
+    #[arg(long, allow_negative_numbers = true)]
+    pub mass: Option<f64>,
+    /// Temperature kT (energy units; 5e-5 gives mass 1 an rms speed of 0.01).
+    #[arg(long, allow_negative_numbers = true)]
+    pub kt: Option<f64>,
+    /// Packing fraction (area fraction).
+    #[arg(long, allow_negative_numbers = true)]
+    pub packing: Option<f64>,
+    /// Boundaries (fluid, mixture).
+    #[arg(long, value_enum)]
+    pub boundary: Option<BoundaryArg>,
+    /// Angle between the paths in degrees (angled).
+    #[arg(long, allow_negative_numbers = true)]
+    pub angle: Option<f64>,
+    /// Impact parameter as a fraction of the contact distance (angled).
+    #[arg(long, allow_negative_numbers = true)]
+    pub impact: Option<f64>,
+    /// Side of the central square the discs start in (diffusion1).
+    #[arg(long, allow_negative_numbers = true)]
+    pub region: Option<f64>,
+    /// Radius of the big disc (brownian).
+    #[arg(long, allow_negative_numbers = true)]
+    pub big_radius: Option<f64>,
+    /// Mass of the big disc (brownian).
+    #[arg(long, allow_negative_numbers = true)]
+    pub big_mass: Option<f64>,
+    /// Diameter ratio large/small (mixture, binary).
+    #[arg(long, allow_negative_numbers = true)]
+    pub size_ratio: Option<f64>,
+    /// Number fraction of large discs (mixture, binary).
+    #[arg(long, allow_negative_numbers = true)]
+    pub fraction_large: Option<f64>,
+    /// Polydisperse mixture with diameters uniform in 1 +- SPREAD (instead of binary).
+    #[arg(long, allow_negative_numbers = true)]
+    pub spread: Option<f64>,
+}
+
+/// Runs `edmd gen`.
+pub fn run(args: &GenArgs) -> Result<()> {
+    let Ok(mut kind) = GenKind::from_name(&args.kind) else {
+        return user_error(format!(
+            "gen: unknown kind '{}' (one of: {})",
+            args.kind,
+            GenKind::NAMES.join(", ")
+        ));
+    };
+    apply(&mut kind, args)?;
+    let system =
+        generate(&kind, args.seed).or_else(|e| user_error(format!("gen {}: {e}", args.kind)))?;
+    let format = if args.course {
+        if let Err(why) = edmd_io::course::fits(&system.discs, &system.sim_box, &system.barriers) {
+            return user_error(format!(
+                "gen {}: cannot write the course format: {why}",
+                args.kind
+            ));
+        }
+        Format::Course
+    } else {
+        Format::Princeton(ColumnOrder::RadiusMass)
+    };
+    if args.output == "-" {
+        let mut out = std::io::stdout().lock();
+        edmd_io::write(
+            &mut out,
+            &system.discs,
+            &system.sim_box,
+            &system.barriers,
+            format,
+        )?;
+        std::io::Write::flush(&mut out)?;
+    } else {
+        let mut f = AtomicFile::create(Path::new(&args.output))?;
+        edmd_io::write(
+            f.writer(),
+            &system.discs,
+            &system.sim_box,
+            &system.barriers,
+            format,
+        )?;
+        f.commit()?;
+        eprintln!(
+            "edmd gen: {} discs ({}) written to {}",
+            system.discs.len(),
+            args.kind,
+            args.output
+        );
+    }
+    Ok(())
+}
+
+/// Applies the options that were given to the kind's parameters.
+fn apply(kind: &mut GenKind, a: &GenArgs) -> Result<()> {
+    let name = kind.name();
+    if a.spread.is_some() && (a.size_ratio.is_some() || a.fraction_large.is_some()) {
+        return user_error(format!(
+            "gen {name}: --spread (polydisperse) and --size-ratio/--fraction-large (binary) exclude each other"
+        ));
+    }
+    let mut used: Vec<&str> = Vec::new();
+    let n = match a.n {
+        Some(n) if n < 1 => {
+            return user_error(format!("gen {name}: --n must be at least 1, got {n}"))
+        }
+        Some(n) => Some(n as usize),
+        None => None,
+    };
+    macro_rules! set {
+        ($flag:literal, $opt:expr, $field:expr) => {
+            if let Some(v) = $opt {
+                $field = v;
+                used.push($flag);
+            }
+        };
+    }
+    let boundary = a.boundary.map(|b| match b {
+        BoundaryArg::Periodic => Boundary::Periodic,
+        BoundaryArg::Walls => Boundary::Walls,
+    });
+    match kind {
+        GenKind::Single(k) => {
+            set!("radius", a.radius, k.radius);
+            set!("speed", a.speed, k.speed);
+            set!("mass", a.mass, k.mass);
+        }
+        GenKind::HeadOn(k) => {
+            set!("radius", a.radius, k.radius);
+            set!("speed", a.speed, k.speed);
+            set!("mass", a.mass, k.mass);
+        }
+        GenKind::Angled(k) => {
+            set!("radius", a.radius, k.radius);
+            set!("speed", a.speed, k.speed);
+            set!("mass", a.mass, k.mass);
+            set!("angle", a.angle, k.angle_degrees);
+            set!("impact", a.impact, k.impact);
+        }
+        GenKind::OneRed(k) => {
+            set!("n", n, k.n);
+            set!("radius", a.radius, k.radius);
+            set!("speed", a.speed, k.speed);
+        }
+        GenKind::Lattice(k) => {
+            set!("n", n, k.n);
+            set!("radius", a.radius, k.radius);
+            set!("mass", a.mass, k.mass);
+            set!("kt", a.kt, k.kt);
+        }
+        GenKind::Diffusion1(k) => {
+            set!("n", n, k.n);
+            set!("radius", a.radius, k.radius);
+            set!("speed", a.speed, k.speed);
+            set!("region", a.region, k.region);
+        }
+        GenKind::Diffusion2(k) => {
+            set!("n", n, k.n);
+            set!("radius", a.radius, k.radius);
+            set!("mass", a.mass, k.mass);
+            set!("kt", a.kt, k.kt);
+        }
+        GenKind::Dense(k) => {
+            set!("n", n, k.n);
+            set!("packing", a.packing, k.packing);
+            set!("mass", a.mass, k.mass);
+            set!("kt", a.kt, k.kt);
+        }
+        GenKind::Brownian(k) => {
+            set!("n", n, k.n);
+            set!("radius", a.radius, k.small_radius);
+            set!("mass", a.mass, k.small_mass);
+            set!("big-radius", a.big_radius, k.big_radius);
+            set!("big-mass", a.big_mass, k.big_mass);
+            set!("kt", a.kt, k.kt);
+        }
+        GenKind::Fluid(k) => {
+            set!("n", n, k.n);
+            set!("packing", a.packing, k.packing);
+            set!("boundary", boundary, k.boundary);
+        }
+        GenKind::Mixture(k) => {
+            set!("n", n, k.n);
+            set!("packing", a.packing, k.packing);
+            set!("boundary", boundary, k.boundary);
+            if let Some(spread) = a.spread {
+                k.sizes = Sizes::Polydisperse { spread };
+                used.push("spread");
+            } else if a.size_ratio.is_some() || a.fraction_large.is_some() {
+                let (mut size_ratio, mut fraction_large) = match k.sizes {
+                    Sizes::Binary {
+                        size_ratio,
+                        fraction_large,
+                    } => (size_ratio, fraction_large),
+                    _ => (1.4, 0.5),
+                };
+                set!("size-ratio", a.size_ratio, size_ratio);
+                set!("fraction-large", a.fraction_large, fraction_large);
+                k.sizes = Sizes::Binary {
+                    size_ratio,
+                    fraction_large,
+                };
+            }
+        }
+    }
+    let given: Vec<(&str, bool)> = vec![
+        ("n", a.n.is_some()),
+        ("radius", a.radius.is_some()),
+        ("speed", a.speed.is_some()),
+        ("mass", a.mass.is_some()),
+        ("kt", a.kt.is_some()),
+        ("packing", a.packing.is_some()),
+        ("boundary", a.boundary.is_some()),
+        ("angle", a.angle.is_some()),
+        ("impact", a.impact.is_some()),
+        ("region", a.region.is_some()),
+        ("big-radius", a.big_radius.is_some()),
+        ("big-mass", a.big_mass.is_some()),
+        ("size-ratio", a.size_ratio.is_some()),
+        ("fraction-large", a.fraction_large.is_some()),
+        ("spread", a.spread.is_some()),
+    ];
+    if let Some((flag, _)) = given.iter().find(|(f, g)| *g && !used.contains(f)) {
+        return user_error(format!("gen {name}: --{flag} does not apply to this kind"));
+    }
+    Ok(())
+}
