@@ -104,6 +104,10 @@ fn eos_json_has_z_with_error_bars_near_henderson() {
         let h = (1.0 + eta * eta / 8.0) / ((1.0 - eta) * (1.0 - eta));
         assert!((z / h - 1.0).abs() < 0.015, "{r}");
         assert!(err > 0.0 && err < 0.02 * z, "{r}");
+        assert!(
+            r["relative_energy_change"].as_f64().unwrap().abs() < 1e-12,
+            "{r}"
+        );
     }
     assert_files(&dir, &["eos.csv", "eos.png", "eos.svg"]);
 }
@@ -113,6 +117,10 @@ fn maxwell_relaxes_an_equal_speed_start_to_rayleigh() {
     let (v, dir) = experiment(&["maxwell", "--n", "1000"]);
     assert!(v["ks_p_value"].as_f64().unwrap() > 0.01, "{v}");
     assert!(v["initial_ks_p_value"].as_f64().unwrap() < 1e-6, "{v}");
+    assert!(
+        v["relative_energy_change"].as_f64().unwrap().abs() < 1e-12,
+        "{v}"
+    );
     let rms = v["rms_speed"].as_array().unwrap();
     assert!(
         (rms[0].as_f64().unwrap() / rms[1].as_f64().unwrap() - 1.0).abs() < 1e-9,
@@ -130,6 +138,10 @@ fn mfp_follows_enskog() {
             r["enskog_mean_free_path"].as_f64().unwrap(),
         );
         assert!((m / e - 1.0).abs() < 0.06, "{r}");
+        assert!(
+            r["relative_energy_change"].as_f64().unwrap().abs() < 1e-12,
+            "{r}"
+        );
     }
     assert_files(
         &dir,
@@ -351,4 +363,48 @@ fn generators_take_their_options_and_refuse_the_impossible() {
             "{args:?}: {err}"
         );
     }
+}
+
+#[test]
+fn ctrl_c_stops_a_long_experiment_and_keeps_its_results() {
+    use std::process::{Command, Stdio};
+    let dir = tempfile::tempdir().unwrap();
+    let child = Command::new(env!("CARGO_BIN_EXE_edmd"))
+        .args([
+            "experiment",
+            "eos",
+            "--packing",
+            "0.1,0.2,0.3,0.4,0.5,0.6",
+            "--n",
+            "3000",
+            "--measure",
+            "3000",
+            "--json",
+            "--out-dir",
+        ])
+        .arg(dir.path())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    // Let it finish at least the first packing fraction, then press Ctrl-C.
+    std::thread::sleep(std::time::Duration::from_millis(2500));
+    let kill = Command::new("kill")
+        .args(["-INT", &child.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(kill.success());
+    let out = child.wait_with_output().unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let v: Value = serde_json::from_str(String::from_utf8_lossy(&out.stdout).trim()).unwrap();
+    assert_eq!(v["interrupted"], true, "{v}");
+    let done = v["results"].as_array().unwrap().len();
+    assert!(done < 6, "{v}");
+    let csv = std::fs::read_to_string(dir.path().join("eos.csv")).unwrap();
+    assert_eq!(csv.lines().count(), 1 + done);
+    assert!(String::from_utf8_lossy(&out.stderr).contains("stopping"));
 }

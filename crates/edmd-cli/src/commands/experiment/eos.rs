@@ -61,6 +61,8 @@ pub struct Point {
     pub henderson: f64,
     /// Disc-disc collisions measured over.
     pub collisions: u64,
+    /// Relative kinetic energy change over the run.
+    pub relative_energy_change: f64,
 }
 
 /// The summary.
@@ -97,6 +99,7 @@ pub fn run(args: &EosArgs) -> Result<()> {
         let block = args.measure as f64 / args.blocks as f64 / rate;
         let mut pressure = Pressure::new(&sim);
         let c0 = sim.stats().disc_disc;
+        let e0 = sim.kinetic_energy();
         for b in 0..args.blocks {
             if stop_requested() {
                 break 'packings;
@@ -113,6 +116,7 @@ pub fn run(args: &EosArgs) -> Result<()> {
             z_err: z.error,
             henderson: henderson(eta),
             collisions: sim.stats().disc_disc - c0,
+            relative_energy_change: (sim.kinetic_energy() - e0) / e0,
         });
     }
     progress.finish();

@@ -60,6 +60,8 @@ pub struct Summary {
     pub ks_p_value: f64,
     /// The same test on the initial, equal-speed state.
     pub initial_ks_p_value: f64,
+    /// Relative kinetic energy change over the run.
+    pub relative_energy_change: f64,
     /// True if stopped by Ctrl-C early.
     pub interrupted: bool,
 }
@@ -92,6 +94,7 @@ pub fn run(args: &MaxwellArgs) -> Result<()> {
     }
     let mut sim = Simulation::new(&discs, bx, Options::default())?;
     let kt = kinetic_temperature(&sim);
+    let e0 = sim.kinetic_energy();
     let max = 5.0 * kt.sqrt();
     let mut initial = Speeds::new(args.bins, max);
     initial.sample(&sim);
@@ -156,6 +159,7 @@ pub fn run(args: &MaxwellArgs) -> Result<()> {
         ks_statistic: s.ks.statistic,
         ks_p_value: s.ks.p_value,
         initial_ks_p_value: initial_p,
+        relative_energy_change: (sim.kinetic_energy() - e0) / e0,
         interrupted: s.snapshots < args.snapshots,
     };
     report(&args.common, &summary, &human)

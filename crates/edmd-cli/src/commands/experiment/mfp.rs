@@ -58,6 +58,8 @@ pub struct Point {
     pub mean_free_time: f64,
     /// Collision frequency per disc, measured and Enskog's.
     pub collision_frequency: [f64; 2],
+    /// Relative kinetic energy change over the run.
+    pub relative_energy_change: f64,
 }
 
 /// The summary.
@@ -93,6 +95,7 @@ pub fn run(args: &MfpArgs) -> Result<()> {
             20,
         )?;
         let lambda = enskog_mean_free_path(eta);
+        let e0 = sim.kinetic_energy();
         let mut obs = Collisions::new(&sim, 60, 5.0 * lambda, 5.0 * lambda / 1.25);
         let t_end = sim.time() + args.measure as f64 / rate;
         let blocks = 10;
@@ -141,6 +144,7 @@ pub fn run(args: &MfpArgs) -> Result<()> {
             enskog_mean_free_path: lambda,
             mean_free_time: s.mean_free_time,
             collision_frequency: [s.frequency.value, omega],
+            relative_energy_change: (sim.kinetic_energy() - e0) / e0,
         });
         progress.set(k as u64 + 1);
     }
