@@ -20,6 +20,15 @@ pub enum Command {
     Run(RunArgs),
     /// Time the event loop on a melted lattice fluid; prints one JSON line.
     Bench(BenchArgs),
+    /// Render frames without a screen: an animated GIF, an MP4 (with ffmpeg) or PNG files.
+    Render(crate::commands::render::RenderArgs),
+    /// Open the viewer window (the separate edmd-view program).
+    #[command(disable_help_flag = true)]
+    View {
+        /// Arguments for edmd-view (see edmd-view --help).
+        #[arg(trailing_var_arg = true, allow_hyphen_values = true)]
+        args: Vec<String>,
+    },
     /// Generate a configuration (the Princeton data sets, fluids, mixtures).
     Gen(crate::commands::gen::GenArgs),
     /// Run one of the experiments (writes CSV files and plots).

@@ -14,7 +14,27 @@ fn main() -> ExitCode {
         Command::Run(a) => commands::run::run(a),
         Command::Bench(a) => commands::bench::run(a),
         Command::Gen(a) => commands::gen::run(a),
+        Command::Render(a) => commands::render::run(a),
+        Command::View { args } => return view(args),
         Command::Experiment(e) => commands::experiment::run(e),
     };
     exit_with("edmd", result)
+}
+
+/// `edmd view ...` runs the viewer, a separate program so that the GUI stack stays out of
+/// this one: `edmd-view` next to this executable, or on the PATH.
+fn view(args: &[String]) -> ExitCode {
+    let beside = std::env::current_exe()
+        .ok()
+        .and_then(|p| p.parent().map(|d| d.join("edmd-view")));
+    let program = beside
+        .filter(|p| p.exists())
+        .unwrap_or_else(|| "edmd-view".into());
+    match std::process::Command::new(&program).args(args).status() {
+        Ok(s) => ExitCode::from(s.code().unwrap_or(1).clamp(0, 255) as u8),
+        Err(_) => {
+            eprintln!("edmd: error: the viewer 'edmd-view' is not built: run 'cargo build --release -p edmd-view' (or use 'edmd render' to make a GIF)");
+            ExitCode::from(2)
+        }
+    }
 }

@@ -36,6 +36,19 @@ impl AtomicFile {
         self.writer.as_mut().expect("writer present until commit")
     }
 
+    /// The temporary path (for writers that need a file of their own).
+    pub fn temp_path(&self) -> &Path {
+        &self.tmp
+    }
+
+    /// Moves a temporary file written through [`Self::temp_path`] into place.
+    pub fn commit_existing(mut self) -> Result<()> {
+        let w = self.writer.take().expect("writer present until commit");
+        drop(w);
+        std::fs::rename(&self.tmp, &self.dest)
+            .with_context(|| format!("{}: cannot move into place", self.dest.display()))
+    }
+
     /// Flushes and moves the file into place.
     pub fn commit(mut self) -> Result<()> {
         let mut w = self.writer.take().expect("writer present until commit");

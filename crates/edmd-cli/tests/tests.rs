@@ -6,5 +6,6 @@ mod bad_input;
 mod bench;
 mod experiments;
 mod particles;
+mod render;
 mod run;
 mod trajectory;

@@ -5,4 +5,5 @@ pub mod experiment;
 pub mod gen;
 pub mod measurements;
 pub mod particles;
+pub mod render;
 pub mod run;

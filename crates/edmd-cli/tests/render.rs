@@ -1,0 +1,159 @@
+//! `edmd render`: frames without a screen.
+
+use crate::support::{ok_stdout, run};
+
+#[test]
+fn gif_of_a_generated_data_set_has_the_expected_frames_and_size() {
+    let dir = tempfile::tempdir().unwrap();
+    let f = dir.path().join("g.txt");
+    ok_stdout(&run(
+        "edmd",
+        &[
+            "gen",
+            "one-red",
+            "--n",
+            "60",
+            "--seed",
+            "2",
+            "-o",
+            f.to_str().unwrap(),
+        ],
+        None,
+    ));
+    let gif_path = dir.path().join("out.gif");
+    let out = run(
+        "edmd",
+        &[
+            "render",
+            f.to_str().unwrap(),
+            "-o",
+            gif_path.to_str().unwrap(),
+            "--until",
+            "30",
+            "--fps",
+            "5",
+            "--time-scale",
+            "10",
+            "--size",
+            "160x120",
+        ],
+        None,
+    );
+    ok_stdout(&out);
+    // Frames at t = 0, 2, 4, ..., 30: 16 frames.
+    let file = std::fs::File::open(&gif_path).unwrap();
+    let mut opts = gif::DecodeOptions::new();
+    opts.set_color_output(gif::ColorOutput::RGBA);
+    let mut dec = opts.read_info(file).unwrap();
+    assert_eq!((dec.width(), dec.height()), (160, 120));
+    let mut frames = 0;
+    let mut first: Option<Vec<u8>> = None;
+    let mut changed = false;
+    while let Some(frame) = dec.read_next_frame().unwrap() {
+        frames += 1;
+        assert_eq!(frame.delay, 20);
+        match &first {
+            None => first = Some(frame.buffer.to_vec()),
+            Some(b) => changed |= b.as_slice() != &frame.buffer[..],
+        }
+    }
+    assert_eq!(frames, 16);
+    assert!(changed, "the discs should move between frames");
+}
+
+#[test]
+fn png_frames_and_a_missing_ffmpeg() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = crate::support::example("gas-300.txt");
+    let frames = dir.path().join("frames");
+    ok_stdout(&run(
+        "edmd",
+        &[
+            "render",
+            input.to_str().unwrap(),
+            "-o",
+            frames.to_str().unwrap(),
+            "--until",
+            "1",
+            "--fps",
+            "3",
+        ],
+        None,
+    ));
+    let mut names: Vec<String> = std::fs::read_dir(&frames)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    names.sort();
+    assert_eq!(
+        names,
+        [
+            "frame_000000.png",
+            "frame_000001.png",
+            "frame_000002.png",
+            "frame_000003.png"
+        ]
+    );
+    // Without ffmpeg on the PATH, an MP4 is a clear error naming the program.
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_edmd"))
+        .args([
+            "render",
+            input.to_str().unwrap(),
+            "-o",
+            dir.path().join("v.mp4").to_str().unwrap(),
+            "--until",
+            "1",
+        ])
+        .env("PATH", dir.path())
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("ffmpeg") && err.lines().count() == 1, "{err}");
+    for (args, expect) in [
+        (
+            vec![
+                "render",
+                input.to_str().unwrap(),
+                "-o",
+                "x.gif",
+                "--until",
+                "1",
+                "--size",
+                "10x10",
+            ],
+            "WIDTHxHEIGHT",
+        ),
+        (
+            vec![
+                "render",
+                input.to_str().unwrap(),
+                "-o",
+                "x.gif",
+                "--until",
+                "-1",
+            ],
+            ">= 0",
+        ),
+        (
+            vec![
+                "render",
+                input.to_str().unwrap(),
+                "-o",
+                "x.gif",
+                "--until",
+                "1e6",
+                "--fps",
+                "100",
+            ],
+            "too many",
+        ),
+    ] {
+        let out = run("edmd", &args, None);
+        assert_eq!(out.status.code(), Some(2), "{args:?}");
+        assert!(
+            String::from_utf8_lossy(&out.stderr).contains(expect),
+            "{args:?}"
+        );
+    }
+}

@@ -1,0 +1,458 @@
+//! # edmd-draw: one picture of a hard-disc system
+//!
+//! The viewer window and the offline renderer both call [`draw`], so they show the same
+//! picture: the box, every disc to scale in its colour (or coloured by speed or species), the
+//! internal barriers with their doors, and the trails of tagged discs. Drawing only reads a
+//! [`Scene`], a snapshot built from a simulation ([`Scene::capture`]); rendering never lives in
+//! the engine.
+//!
+//! ```
+//! use edmd_core::{Disc, Options, SimBox, Simulation, Vector};
+//! use edmd_draw::{draw, Colouring, Scene};
+//!
+//! let discs = [Disc::new(Vector::new([0.5, 0.5]), Vector::ZERO, 0.1)];
+//! let sim = Simulation::new(&discs, SimBox::unit(), Options::default()).unwrap();
+//! let pixmap = draw(&Scene::capture(&sim, Colouring::File), 200, 200);
+//! assert_eq!((pixmap.width(), pixmap.height()), (200, 200));
+//! ```
+
+use edmd_core::{Barrier, Simulation, Vector};
+pub use tiny_skia::Pixmap;
+use tiny_skia::{Color, FillRule, Paint, PathBuilder, Rect, Stroke, Transform};
+
+/// How discs are coloured.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Colouring {
+    /// The colours from the file.
+    #[default]
+    File,
+    /// By speed, blue (slow) to red (fast), relative to the root mean square speed.
+    Speed,
+    /// By species, from a fixed palette.
+    Species,
+}
+
+/// Background colour of the box.
+pub const BACKGROUND: [u8; 3] = [255, 255, 255];
+/// Colour outside the box.
+pub const OUTSIDE: [u8; 3] = [236, 236, 240];
+/// Colour of walls and barriers.
+pub const WALL: [u8; 3] = [40, 40, 40];
+
+const PALETTE: [[u8; 3]; 6] = [
+    [31, 119, 180],
+    [44, 160, 44],
+    [214, 39, 40],
+    [255, 127, 14],
+    [148, 103, 189],
+    [140, 86, 75],
+];
+
+/// A snapshot of what to draw.
+#[derive(Clone, Debug, Default)]
+pub struct Scene {
+    /// Box edge lengths.
+    pub lengths: [f64; 2],
+    /// Which axes are periodic (drawn with dashed edges; discs near them also drawn wrapped).
+    pub periodic: [bool; 2],
+    /// Disc centres.
+    pub positions: Vec<Vector>,
+    /// Disc radii.
+    pub radii: Vec<f64>,
+    /// Disc colours.
+    pub colours: Vec<[u8; 3]>,
+    /// Internal barriers.
+    pub barriers: Vec<Barrier>,
+    /// Paths of tagged discs (oldest first), drawn as lines.
+    pub trails: Vec<Vec<Vector>>,
+    /// Discs to outline (tagged).
+    pub highlighted: Vec<usize>,
+}
+
+impl Scene {
+    /// The simulation at its current time, coloured as asked.
+    pub fn capture(sim: &Simulation, colouring: Colouring) -> Self {
+        let n = sim.len();
+        let rms = ((0..n).map(|i| sim.velocity(i).norm2()).sum::<f64>() / n.max(1) as f64).sqrt();
+        let colours = (0..n)
+            .map(|i| match colouring {
+                Colouring::File => sim.colour(i),
+                Colouring::Species => PALETTE[sim.species(i) as usize % PALETTE.len()],
+                Colouring::Speed => speed_colour(
+                    sim.velocity(i).norm2().sqrt() / (2.0 * rms).max(f64::MIN_POSITIVE),
+                ),
+            })
+            .collect();
+        let b = sim.sim_box();
+        Scene {
+            lengths: b.lengths,
+            periodic: [b.is_periodic(0), b.is_periodic(1)],
+            positions: (0..n).map(|i| sim.position(i)).collect(),
+            radii: (0..n).map(|i| sim.radius(i)).collect(),
+            colours,
+            barriers: sim.barriers().to_vec(),
+            trails: Vec::new(),
+            highlighted: Vec::new(),
+        }
+    }
+}
+
+/// Blue through white to red for `x` from 0 to 1 (clamped).
+pub fn speed_colour(x: f64) -> [u8; 3] {
+    let x = x.clamp(0.0, 1.0);
+    let lerp = |a: f64, b: f64, t: f64| (a + (b - a) * t).round() as u8;
+    if x < 0.5 {
+        let t = x / 0.5;
+        [
+            lerp(40.0, 230.0, t),
+            lerp(80.0, 230.0, t),
+            lerp(220.0, 230.0, t),
+        ]
+    } else {
+        let t = (x - 0.5) / 0.5;
+        [
+            lerp(230.0, 215.0, t),
+            lerp(230.0, 40.0, t),
+            lerp(230.0, 30.0, t),
+        ]
+    }
+}
+
+/// Where the box lands in an image: world `(x, y)` (y up) to pixels (y down), and back.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Viewport {
+    /// Pixels per box length unit.
+    pub scale: f64,
+    /// Pixel x of world x = 0.
+    pub x0: f64,
+    /// Pixel y of world y = 0.
+    pub y0: f64,
+}
+
+impl Viewport {
+    /// The largest view of the box that fits `width` x `height` pixels with a small margin.
+    pub fn fit(lengths: [f64; 2], width: u32, height: u32) -> Self {
+        let margin = 4.0;
+        let (w, h) = (width as f64 - 2.0 * margin, height as f64 - 2.0 * margin);
+        let scale = (w / lengths[0]).min(h / lengths[1]).max(f64::MIN_POSITIVE);
+        let x0 = (width as f64 - scale * lengths[0]) / 2.0;
+        let y0 = (height as f64 + scale * lengths[1]) / 2.0;
+        Viewport { scale, x0, y0 }
+    }
+
+    /// Pixel coordinates of a world point.
+    pub fn to_pixel(&self, p: Vector) -> (f32, f32) {
+        (
+            (self.x0 + p[0] * self.scale) as f32,
+            (self.y0 - p[1] * self.scale) as f32,
+        )
+    }
+
+    /// World coordinates of a pixel.
+    pub fn to_world(&self, px: f64, py: f64) -> Vector {
+        Vector::new([(px - self.x0) / self.scale, (self.y0 - py) / self.scale])
+    }
+}
+
+fn paint(rgb: [u8; 3]) -> Paint<'static> {
+    let mut p = Paint::default();
+    p.set_color_rgba8(rgb[0], rgb[1], rgb[2], 255);
+    p.anti_alias = true;
+    p
+}
+
+/// Draws `scene` into a new `width` x `height` image.
+pub fn draw(scene: &Scene, width: u32, height: u32) -> Pixmap {
+    let mut pm = Pixmap::new(width.max(1), height.max(1)).expect("non-zero size");
+    draw_into(scene, &mut pm);
+    pm
+}
+
+/// Draws `scene` into an existing image (the viewer reuses one per frame).
+pub fn draw_into(scene: &Scene, pm: &mut Pixmap) {
+    let [or, og, ob] = OUTSIDE;
+    pm.fill(Color::from_rgba8(or, og, ob, 255));
+    let vp = Viewport::fit(scene.lengths, pm.width(), pm.height());
+    let (x0, y1) = vp.to_pixel(Vector::ZERO);
+    let (x1, y0) = vp.to_pixel(Vector::new(scene.lengths));
+    if let Some(r) = Rect::from_ltrb(x0, y0, x1, y1) {
+        pm.fill_rect(r, &paint(BACKGROUND), Transform::identity(), None);
+    }
+    // Discs, with their periodic images where they stick out of the box.
+    let mut pb = PathBuilder::new();
+    let mut current: Option<[u8; 3]> = None;
+    let flush = |pb: &mut PathBuilder, pm: &mut Pixmap, colour: [u8; 3]| {
+        let path = std::mem::replace(pb, PathBuilder::new()).finish();
+        if let Some(path) = path {
+            pm.fill_path(
+                &path,
+                &paint(colour),
+                FillRule::Winding,
+                Transform::identity(),
+                None,
+            );
+        }
+    };
+    for (i, &p) in scene.positions.iter().enumerate() {
+        let colour = scene.colours.get(i).copied().unwrap_or([0, 0, 0]);
+        if current.is_some_and(|c| c != colour) {
+            flush(&mut pb, pm, current.unwrap());
+        }
+        current = Some(colour);
+        let r = scene.radii[i];
+        let rp = (r * vp.scale).max(0.5) as f32;
+        for shift in images(p, r, scene) {
+            let (cx, cy) = vp.to_pixel(p + shift);
+            pb.push_circle(cx, cy, rp);
+        }
+    }
+    if let Some(c) = current {
+        flush(&mut pb, pm, c);
+    }
+    // Trails and highlighted discs.
+    for trail in &scene.trails {
+        let mut pb = PathBuilder::new();
+        let mut last: Option<Vector> = None;
+        for &p in trail {
+            let (x, y) = vp.to_pixel(p);
+            // A jump across a periodic boundary is not a line across the box.
+            if last.is_none_or(|q| {
+                (p - q).norm2().sqrt() > 0.5 * scene.lengths[0].min(scene.lengths[1])
+            }) {
+                pb.move_to(x, y);
+            } else {
+                pb.line_to(x, y);
+            }
+            last = Some(p);
+        }
+        if let Some(path) = pb.finish() {
+            let stroke = Stroke {
+                width: 1.5,
+                ..Stroke::default()
+            };
+            pm.stroke_path(
+                &path,
+                &paint([200, 30, 30]),
+                &stroke,
+                Transform::identity(),
+                None,
+            );
+        }
+    }
+    for &i in &scene.highlighted {
+        if let (Some(&p), Some(&r)) = (scene.positions.get(i), scene.radii.get(i)) {
+            let (cx, cy) = vp.to_pixel(p);
+            if let Some(path) = PathBuilder::from_circle(cx, cy, (r * vp.scale) as f32 + 1.5) {
+                let stroke = Stroke {
+                    width: 2.0,
+                    ..Stroke::default()
+                };
+                pm.stroke_path(
+                    &path,
+                    &paint([0, 0, 0]),
+                    &stroke,
+                    Transform::identity(),
+                    None,
+                );
+            }
+        }
+    }
+    // Walls (solid) or periodic edges (thin), then barriers with their doors.
+    let edge = |periodic: bool| Stroke {
+        width: if periodic { 0.5 } else { 2.0 },
+        ..Stroke::default()
+    };
+    for (axis, &periodic) in scene.periodic.iter().enumerate() {
+        let mut pb = PathBuilder::new();
+        let (ax, ay) = vp.to_pixel(Vector::ZERO);
+        let far = if axis == 0 {
+            Vector::new([0.0, scene.lengths[1]])
+        } else {
+            Vector::new([scene.lengths[0], 0.0])
+        };
+        let (bx, by) = vp.to_pixel(far);
+        // Axis 0's walls are the vertical edges x = 0 and x = L.
+        let shift = if axis == 0 {
+            Vector::new([scene.lengths[0], 0.0])
+        } else {
+            Vector::new([0.0, scene.lengths[1]])
+        };
+        let (cx, cy) = vp.to_pixel(shift);
+        let (dx, dy) = vp.to_pixel(far + shift);
+        pb.move_to(ax, ay);
+        pb.line_to(bx, by);
+        pb.move_to(cx, cy);
+        pb.line_to(dx, dy);
+        if let Some(path) = pb.finish() {
+            pm.stroke_path(
+                &path,
+                &paint(WALL),
+                &edge(periodic),
+                Transform::identity(),
+                None,
+            );
+        }
+    }
+    for b in &scene.barriers {
+        let other = 1 - b.axis;
+        let len = scene.lengths[other];
+        let pieces = match b.door {
+            None => vec![(0.0, len)],
+            Some((lo, hi)) => vec![(0.0, lo), (hi, len)],
+        };
+        let mut pb = PathBuilder::new();
+        for (s, e) in pieces {
+            let mut p = Vector::ZERO;
+            p[b.axis] = b.position;
+            p[other] = s;
+            let mut q = p;
+            q[other] = e;
+            let (ax, ay) = vp.to_pixel(p);
+            let (bx, by) = vp.to_pixel(q);
+            pb.move_to(ax, ay);
+            pb.line_to(bx, by);
+        }
+        if let Some(path) = pb.finish() {
+            let stroke = Stroke {
+                width: 3.0,
+                ..Stroke::default()
+            };
+            let colour = if b.demon.is_some() {
+                [120, 40, 160]
+            } else {
+                WALL
+            };
+            pm.stroke_path(&path, &paint(colour), &stroke, Transform::identity(), None);
+        }
+    }
+}
+
+/// The image shifts at which a disc must be drawn: itself, plus images across each periodic
+/// edge it overlaps.
+fn images(p: Vector, r: f64, scene: &Scene) -> Vec<Vector> {
+    let mut shifts = vec![Vector::ZERO];
+    for a in 0..2 {
+        if !scene.periodic[a] {
+            continue;
+        }
+        let l = scene.lengths[a];
+        let extra = if p[a] < r {
+            Some(l)
+        } else if p[a] > l - r {
+            Some(-l)
+        } else {
+            None
+        };
+        if let Some(s) = extra {
+            let more: Vec<Vector> = shifts
+                .iter()
+                .map(|v| {
+                    let mut w = *v;
+                    w[a] += s;
+                    w
+                })
+                .collect();
+            shifts.extend(more);
+        }
+    }
+    shifts
+}
+
+/// Index of the disc under the pixel `(px, py)` of a `width` x `height` image, if any.
+pub fn pick(scene: &Scene, width: u32, height: u32, px: f64, py: f64) -> Option<usize> {
+    let vp = Viewport::fit(scene.lengths, width, height);
+    let w = vp.to_world(px, py);
+    scene
+        .positions
+        .iter()
+        .zip(&scene.radii)
+        .enumerate()
+        .filter(|(_, (p, r))| (**p - w).norm2() <= *r * *r)
+        .map(|(i, _)| i)
+        .next()
+}
+
+/// The image as straight (not premultiplied) RGBA bytes.
+pub fn rgba(pm: &Pixmap) -> Vec<u8> {
+    pm.clone().take_demultiplied()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use edmd_core::{Disc, Options, SimBox};
+
+    fn rgb_at(pm: &Pixmap, x: u32, y: u32) -> [u8; 3] {
+        let c = pm.pixel(x, y).unwrap().demultiply();
+        [c.red(), c.green(), c.blue()]
+    }
+
+    fn scene(discs: &[Disc]) -> Scene {
+        let sim = Simulation::new(discs, SimBox::unit(), Options::default()).unwrap();
+        Scene::capture(&sim, Colouring::File)
+    }
+
+    #[test]
+    fn a_disc_covers_the_pixels_it_should() {
+        // Unit box in 208 x 208 pixels: margin 4, scale 200. Disc at (0.25, 0.75), r = 0.1:
+        // centre pixel (54, 54), radius 20 pixels.
+        let mut d = Disc::new(Vector::new([0.25, 0.75]), Vector::ZERO, 0.1);
+        d.colour = [200, 30, 60];
+        let pm = draw(&scene(&[d]), 208, 208);
+        let vp = Viewport::fit([1.0, 1.0], 208, 208);
+        assert_eq!(vp.to_pixel(Vector::new([0.25, 0.75])), (54.0, 54.0));
+        for (x, y) in [(54, 54), (54 + 18, 54), (54, 54 - 18), (54 - 13, 54 + 13)] {
+            assert_eq!(rgb_at(&pm, x, y), [200, 30, 60], "inside at ({x}, {y})");
+        }
+        for (x, y) in [(54 + 22, 54), (54, 54 + 22), (54 + 16, 54 + 16), (150, 150)] {
+            assert_eq!(rgb_at(&pm, x, y), BACKGROUND, "outside at ({x}, {y})");
+        }
+        // The covered area is the disc's, pi r^2 = 1257 pixels, within antialiasing.
+        let covered = (0..208)
+            .flat_map(|x| (0..208).map(move |y| (x, y)))
+            .filter(|&(x, y)| {
+                let c = rgb_at(&pm, x, y);
+                c[0] > 150 && c[1] < 128
+            })
+            .count();
+        assert!(
+            (covered as f64 - std::f64::consts::PI * 400.0).abs() < 60.0,
+            "{covered}"
+        );
+    }
+
+    #[test]
+    fn an_empty_box_is_empty() {
+        let pm = draw(&scene(&[]), 208, 208);
+        for x in 10..198 {
+            for y in 10..198 {
+                assert_eq!(rgb_at(&pm, x, y), BACKGROUND);
+            }
+        }
+        // The walls are drawn at the edges of the box, and outside is a different shade.
+        assert_eq!(rgb_at(&pm, 4, 100), WALL);
+        assert_eq!(rgb_at(&pm, 1, 100), OUTSIDE);
+    }
+
+    #[test]
+    fn colour_by_speed_and_species() {
+        let mut a = Disc::new(Vector::new([0.25, 0.5]), Vector::new([0.0, 0.0]), 0.1);
+        let mut b = Disc::new(Vector::new([0.75, 0.5]), Vector::new([1.0, 0.0]), 0.1);
+        a.species = 1;
+        b.species = 2;
+        let sim = Simulation::new(&[a, b], SimBox::unit(), Options::default()).unwrap();
+        let s = Scene::capture(&sim, Colouring::Speed);
+        assert_eq!(s.colours[0], speed_colour(0.0));
+        assert_eq!(s.colours[1], speed_colour(1.0 / (2.0 * 0.5f64.sqrt())));
+        let s = Scene::capture(&sim, Colouring::Species);
+        assert_eq!(s.colours, vec![PALETTE[1], PALETTE[2]]);
+    }
+
+    #[test]
+    fn picking_finds_the_disc_under_the_pointer() {
+        let d = Disc::new(Vector::new([0.25, 0.75]), Vector::ZERO, 0.1);
+        let s = scene(&[d]);
+        assert_eq!(pick(&s, 208, 208, 60.0, 50.0), Some(0));
+        assert_eq!(pick(&s, 208, 208, 150.0, 150.0), None);
+    }
+}
