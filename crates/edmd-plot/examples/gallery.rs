@@ -5,7 +5,11 @@ use std::path::PathBuf;
 use edmd_plot::{histogram, Figure, Series};
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
-    let dir = PathBuf::from(std::env::args().nth(1).unwrap_or_else(|| "gallery".to_owned()));
+    let dir = PathBuf::from(
+        std::env::args()
+            .nth(1)
+            .unwrap_or_else(|| "gallery".to_owned()),
+    );
 
     // A Maxwell–Boltzmann-like speed histogram against its curve.
     let speeds: Vec<f64> = (0..4000)
@@ -25,7 +29,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         "speed v (σ/τ)",
         "probability density P(v) (τ/σ)",
     )
-    .with(Series::bars("simulation", histogram(&speeds, 30, None, true)))
+    .with(Series::bars(
+        "simulation",
+        histogram(&speeds, 30, None, true),
+    ))
     .with(Series::line("Maxwell–Boltzmann, 2D", theory));
     println!("{:?}", fig.save(&dir.join("speeds"))?);
 
@@ -40,10 +47,14 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         })
         .collect();
     let raw: Vec<(f64, f64)> = p.iter().map(|&(x, y)| (x + 0.01, y * 0.97)).collect();
-    let fig = Figure::new("Equation of state", "packing fraction φ", "reduced pressure βP/ρ")
-        .with(Series::error_bars("measured", p, err))
-        .with(Series::line("Henderson fit", fit))
-        .with(Series::points("short runs", raw));
+    let fig = Figure::new(
+        "Equation of state",
+        "packing fraction φ",
+        "reduced pressure βP/ρ",
+    )
+    .with(Series::error_bars("measured", p, err))
+    .with(Series::line("Henderson fit", fit))
+    .with(Series::points("short runs", raw));
     println!("{:?}", fig.save(&dir.join("eos"))?);
 
     // Logarithmic y: a decaying correlation with noise going negative.

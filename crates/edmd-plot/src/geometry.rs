@@ -44,19 +44,16 @@ pub fn histogram(
         counts[i.min(bins - 1)] += 1;
     }
     let total: usize = counts.iter().sum();
-    let scale = if normalise {
-        if total == 0 {
-            0.0
-        } else {
-            1.0 / (total as f64 * width)
-        }
+    // Density: count / (total × width); zero everywhere when nothing counted.
+    let norm = if normalise {
+        total.max(1) as f64 * width
     } else {
         1.0
     };
     counts
         .iter()
         .enumerate()
-        .map(|(i, &c)| (lo + (i as f64 + 0.5) * width, c as f64 * scale))
+        .map(|(i, &c)| (lo + (i as f64 + 0.5) * width, c as f64 / norm))
         .collect()
 }
 
@@ -72,15 +69,13 @@ fn extent(values: impl Iterator<Item = f64>) -> Option<(f64, f64)> {
 
 /// Widens a zero-width (or inverted) interval to a usable one.
 fn widen(lo: f64, hi: f64) -> (f64, f64) {
-    if hi > lo && (hi - lo).is_finite() {
+    // Keep widths finite (a plot from -f64::MAX to f64::MAX cannot be drawn).
+    let (lo, hi) = (lo.clamp(-1e300, 1e300), hi.clamp(-1e300, 1e300));
+    if hi > lo {
         return (lo, hi);
     }
     let mid = 0.5 * (lo + hi);
-    let half = if mid == 0.0 {
-        1.0
-    } else {
-        0.1 * mid.abs()
-    };
+    let half = if mid == 0.0 { 1.0 } else { 0.1 * mid.abs() };
     (mid - half, mid + half)
 }
 
@@ -244,7 +239,12 @@ impl Frame {
             let (a, b) = (to(w[0]), to(w[1]));
             match clip_segment(a, b, lo, hi) {
                 None => flush(&mut run),
-                Some((p, q, start_cut, end_cut)) => {
+                Some(Clipped {
+                    start: p,
+                    end: q,
+                    start_cut,
+                    end_cut,
+                }) => {
                     if start_cut || run.is_empty() {
                         flush(&mut run);
                         // Exact data point when not cut, to avoid a round trip.
@@ -272,14 +272,17 @@ fn user_range(log: bool, a: f64, b: f64) -> Option<(f64, f64)> {
     Some(widen(a.min(b), a.max(b)))
 }
 
+/// The visible part of a segment, and whether its ends were cut.
+struct Clipped {
+    start: (f64, f64),
+    end: (f64, f64),
+    start_cut: bool,
+    end_cut: bool,
+}
+
 /// Liang–Barsky clipping of segment `a`–`b` to the box `lo`–`hi`. Returns
 /// the visible part and whether its start and end were cut.
-fn clip_segment(
-    a: (f64, f64),
-    b: (f64, f64),
-    lo: (f64, f64),
-    hi: (f64, f64),
-) -> Option<((f64, f64), (f64, f64), bool, bool)> {
+fn clip_segment(a: (f64, f64), b: (f64, f64), lo: (f64, f64), hi: (f64, f64)) -> Option<Clipped> {
     let (dx, dy) = (b.0 - a.0, b.1 - a.1);
     let mut t0 = 0.0f64;
     let mut t1 = 1.0f64;
@@ -306,7 +309,12 @@ fn clip_segment(
         return None;
     }
     let at = |t: f64| (a.0 + t * dx, a.1 + t * dy);
-    Some((at(t0), at(t1), t0 > 0.0, t1 < 1.0))
+    Some(Clipped {
+        start: at(t0),
+        end: at(t1),
+        start_cut: t0 > 0.0,
+        end_cut: t1 < 1.0,
+    })
 }
 
 /// Width of the bars of a histogram: the smallest gap between distinct
@@ -380,32 +388,66 @@ pub(crate) fn legend_corner(fig: &Figure, frame: &Frame) -> Corner {
     corners[best]
 }
 
-/// A tick label: at most 6 significant digits, scientific notation for very
-/// large or small magnitudes, no `-0`.
-pub(crate) fn tick_label(v: f64) -> String {
+/// A tick label with `digits` significant digits, trailing zeros trimmed,
+/// scientific notation below 1e-4 and from 1e6 on in magnitude, no `-0`.
+pub(crate) fn tick_label(v: f64, digits: usize) -> String {
     if !v.is_finite() {
         return String::new();
     }
     if v == 0.0 {
         return "0".to_owned();
     }
+    let digits = digits.clamp(1, 17);
     let mag = v.abs().log10().floor() as i32;
-    let scale = 10f64.powi(5 - mag);
-    let r = if scale.is_finite() && scale > 0.0 {
-        let r = (v * scale).round() / scale;
-        if r.is_finite() {
-            r
+    let s = if (-4..6).contains(&mag) {
+        let decimals = (digits as i32 - 1 - mag).max(0) as usize;
+        let s = format!("{v:.decimals$}");
+        if s.contains('.') {
+            s.trim_end_matches('0').trim_end_matches('.').to_owned()
         } else {
-            v
+            s
         }
     } else {
-        v
+        let s = format!("{v:.prec$e}", prec = digits - 1);
+        match s.split_once('e') {
+            Some((mantissa, exp)) if mantissa.contains('.') => {
+                format!(
+                    "{}e{exp}",
+                    mantissa.trim_end_matches('0').trim_end_matches('.')
+                )
+            }
+            _ => s,
+        }
     };
-    if !(-4..6).contains(&mag) {
-        format!("{r:e}")
+    if s == "-0" {
+        "0".to_owned()
     } else {
-        format!("{r}")
+        s
     }
+}
+
+/// The fewest significant digits (at least 2, at most 15) whose labels tell
+/// neighbouring ticks apart, each within a hundredth of the tick spacing.
+pub(crate) fn tick_digits(ticks: &[f64]) -> usize {
+    let spacing = ticks
+        .windows(2)
+        .map(|w| (w[1] - w[0]).abs())
+        .filter(|d| *d > 0.0)
+        .fold(f64::INFINITY, f64::min);
+    if !spacing.is_finite() {
+        return 6;
+    }
+    (2..=15)
+        .find(|&digits| {
+            let labels: Vec<String> = ticks.iter().map(|&v| tick_label(v, digits)).collect();
+            let distinct = labels.windows(2).all(|w| w[0] != w[1]);
+            let accurate = ticks.iter().zip(&labels).all(|(&v, l)| {
+                l.parse::<f64>()
+                    .is_ok_and(|p| (p - v).abs() <= 0.01 * spacing)
+            });
+            distinct && accurate
+        })
+        .unwrap_or(15)
 }
 
 #[cfg(test)]
@@ -422,7 +464,8 @@ mod tests {
 
     #[test]
     fn frame_defaults_and_margins() {
-        let fig = Figure::new("t", "x", "y").with(Series::line("a", vec![(0.0, 10.0), (10.0, 20.0)]));
+        let fig =
+            Figure::new("t", "x", "y").with(Series::line("a", vec![(0.0, 10.0), (10.0, 20.0)]));
         let f = Frame::of(&fig);
         assert_eq!(f.x, (-0.5, 10.5));
         assert_eq!(f.y, (9.5, 20.5));
@@ -439,7 +482,10 @@ mod tests {
     #[test]
     fn frame_log_and_user_ranges() {
         let fig = Figure::new("t", "x", "y")
-            .with(Series::points("a", vec![(0.0, 1.0), (1.0, 100.0), (2.0, -5.0), (3.0, 0.0)]))
+            .with(Series::points(
+                "a",
+                vec![(0.0, 1.0), (1.0, 100.0), (2.0, -5.0), (3.0, 0.0)],
+            ))
             .with_log_y();
         let f = Frame::of(&fig);
         assert_eq!(f.x, (-0.05, 1.05));
@@ -454,7 +500,9 @@ mod tests {
 
     #[test]
     fn clipping_cuts_runs() {
-        let fig = Figure::new("t", "x", "y").with_x_range(0.0, 1.0).with_y_range(0.0, 1.0);
+        let fig = Figure::new("t", "x", "y")
+            .with_x_range(0.0, 1.0)
+            .with_y_range(0.0, 1.0);
         let f = Frame::of(&fig);
         let runs = f.clip_polyline(&[
             (0.5, 0.5),
@@ -486,7 +534,9 @@ mod tests {
     #[test]
     fn legend_avoids_data() {
         // A decaying curve fills the upper left: the legend goes elsewhere.
-        let pts: Vec<_> = (0..50).map(|i| (i as f64, (-(i as f64) / 5.0).exp())).collect();
+        let pts: Vec<_> = (0..50)
+            .map(|i| (i as f64, (-(i as f64) / 5.0).exp()))
+            .collect();
         let fig = Figure::new("t", "x", "y").with(Series::line("a", pts.clone()));
         assert_eq!(legend_corner(&fig, &Frame::of(&fig)), Corner::UpperRight);
         let rising: Vec<_> = pts.iter().map(|&(x, y)| (x, 1.0 - y)).collect();
@@ -496,11 +546,38 @@ mod tests {
 
     #[test]
     fn tick_labels() {
-        assert_eq!(tick_label(0.30000000000000004), "0.3");
-        assert_eq!(tick_label(-0.0), "0");
-        assert_eq!(tick_label(1500.0), "1500");
-        assert_eq!(tick_label(2.5e-7), "2.5e-7");
-        assert_eq!(tick_label(3e8), "3e8");
-        assert_eq!(tick_label(f64::NAN), "");
+        assert_eq!(tick_label(0.30000000000000004, 6), "0.3");
+        assert_eq!(tick_label(-0.0, 6), "0");
+        assert_eq!(tick_label(-1e-9, 3), "-1e-9");
+        assert_eq!(tick_label(1500.0, 6), "1500");
+        assert_eq!(tick_label(2.5e-7, 6), "2.5e-7");
+        assert_eq!(tick_label(3e8, 6), "3e8");
+        assert_eq!(tick_label(1e-32, 6), "1e-32");
+        assert_eq!(tick_label(9.999999999999999e-33, 6), "1e-32");
+        assert_eq!(tick_label(-1e-21 * 0.5, 6), "-5e-22");
+        assert_eq!(tick_label(1_000_000.0 + 0.002, 10), "1.000000002e6");
+        assert_eq!(tick_label(0.0001, 6), "0.0001");
+        assert_eq!(tick_label(123456.0, 6), "123456");
+        assert_eq!(tick_label(2.6, 1), "3");
+        assert_eq!(tick_label(f64::NAN, 6), "");
+    }
+
+    #[test]
+    fn digits_tell_ticks_apart() {
+        let ticks: Vec<f64> = (0..=5).map(|k| f64::from(k) * 0.2).collect();
+        assert_eq!(tick_digits(&ticks), 2);
+        let ticks = [1.5, 2.0, 2.5];
+        assert_eq!(tick_digits(&ticks), 2);
+        let labels: Vec<_> = ticks.iter().map(|&t| tick_label(t, 2)).collect();
+        assert_eq!(labels, ["1.5", "2", "2.5"]);
+        // A small spread on a large offset needs many digits.
+        let ticks: Vec<f64> = (0..5)
+            .map(|k| (24_691_356_000.0 + f64::from(k)) * 5e-8)
+            .collect();
+        let d = tick_digits(&ticks);
+        let labels: Vec<_> = ticks.iter().map(|&t| tick_label(t, d)).collect();
+        assert_eq!(labels[1], "1234.56780005", "{labels:?}");
+        assert_eq!(tick_digits(&[7.0]), 6);
+        assert_eq!(tick_digits(&[]), 6);
     }
 }

@@ -2,14 +2,14 @@
 
 use std::sync::OnceLock;
 
-use plotters::coord::ranged1d::{AsRangedCoord, ValueFormatter};
-use plotters::coord::types::RangedCoordf64;
-use plotters::element::{Drawable, PointCollection};
+use plotters::coord::ranged1d::{BoldPoints, ValueFormatter};
 use plotters::coord::Shift;
+use plotters::element::{Drawable, PointCollection};
 use plotters::prelude::*;
 use plotters_backend::{BackendCoord, DrawingErrorKind};
 
-use crate::geometry::{bar_width, legend_corner, tick_label, Corner, Frame};
+use crate::axes::{LinearAxis, LogAxis};
+use crate::geometry::{bar_width, legend_corner, tick_digits, tick_label, Corner, Frame};
 use crate::{Figure, Series, SeriesKind, FIGURE_SIZE, PALETTE};
 
 /// DejaVu Sans (Bitstream Vera licence, see `assets/DejaVuSans-LICENSE.txt`).
@@ -19,19 +19,24 @@ static FONT: &[u8] = include_bytes!("../assets/DejaVuSans.ttf");
 /// viewers fall back to their own sans-serif font.
 const FAMILY: &str = "sans-serif";
 
+// Text sizes in pixels. Keep them even: plotters' ab_glyph renderer places
+// each glyph at `size / 2 + top` truncated to an integer, so with an odd size
+// letters of different heights land on baselines a pixel apart.
 const TITLE_SIZE: f64 = 30.0;
 const AXIS_LABEL_SIZE: f64 = 22.0;
 const TICK_SIZE: f64 = 18.0;
 const LEGEND_SIZE: f64 = 18.0;
 const MARKER_RADIUS: u32 = 4;
+/// Most labelled ticks on each axis.
+const X_LABELS: usize = 10;
+const Y_LABELS: usize = 10;
 const CAP_HALF_WIDTH: i32 = 5;
 
 /// Registers the embedded font with plotters, once.
 fn ensure_font() -> Result<(), String> {
     static REGISTERED: OnceLock<bool> = OnceLock::new();
-    let ok = *REGISTERED.get_or_init(|| {
-        plotters::style::register_font(FAMILY, FontStyle::Normal, FONT).is_ok()
-    });
+    let ok = *REGISTERED
+        .get_or_init(|| plotters::style::register_font(FAMILY, FontStyle::Normal, FONT).is_ok());
     if ok {
         Ok(())
     } else {
@@ -79,9 +84,9 @@ fn draw<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, fig: &Figure) -> Draw
     let frame = Frame::of(fig);
     let (y0, y1) = frame.y;
     if frame.log_y {
-        draw_chart(root, fig, &frame, (y0..y1).log_scale())
+        draw_chart(root, fig, &frame, LogAxis::new(y0, y1))
     } else {
-        draw_chart(root, fig, &frame, y0..y1)
+        draw_chart(root, fig, &frame, LinearAxis::new(y0, y1))
     }
 }
 
@@ -97,10 +102,23 @@ fn draw_chart<DB, Y>(
 ) -> DrawResult<DB>
 where
     DB: DrawingBackend,
-    Y: AsRangedCoord<Value = f64>,
-    Y::CoordDescType: ValueFormatter<f64>,
+    Y: Ranged<ValueType = f64> + ValueFormatter<f64>,
 {
     let (x0, x1) = frame.x;
+    // Enough digits to tell the labelled ticks apart, and room on the left
+    // for the widest y label, the gap and the rotated axis label.
+    let x_axis = LinearAxis::new(x0, x1);
+    let x_digits = tick_digits(&x_axis.key_points(BoldPoints(X_LABELS)));
+    let y_ticks = y_coord.key_points(BoldPoints(Y_LABELS));
+    let y_digits = tick_digits(&y_ticks);
+    let tick_font = (FAMILY, TICK_SIZE).into_font();
+    let widest = y_ticks
+        .iter()
+        .filter_map(|v| tick_font.box_size(&tick_label(*v, y_digits)).ok())
+        .map(|(w, _)| w)
+        .max()
+        .unwrap_or(0);
+    let y_area = (widest + 20 + (AXIS_LABEL_SIZE * 1.8) as u32).max(70);
     let mut chart = ChartBuilder::on(root)
         .caption(&fig.title, font(TITLE_SIZE))
         .margin_top(10)
@@ -108,29 +126,28 @@ where
         .margin_right(30)
         .margin_bottom(15)
         .x_label_area_size(70)
-        .y_label_area_size(100)
-        .build_cartesian_2d(x0..x1, y_coord)?;
+        .y_label_area_size(y_area)
+        .build_cartesian_2d(x_axis, y_coord)?;
 
-    let fmt = |v: &f64| tick_label(*v);
+    let x_fmt = |v: &f64| tick_label(*v, x_digits);
+    let y_fmt = |v: &f64| tick_label(*v, y_digits);
     chart
         .configure_mesh()
         .x_desc(fig.x_label.as_str())
         .y_desc(fig.y_label.as_str())
         .axis_desc_style(font(AXIS_LABEL_SIZE))
         .label_style(font(TICK_SIZE))
-        .x_label_formatter(&fmt)
-        .y_label_formatter(&fmt)
-        .x_labels(10)
-        .y_labels(10)
+        .x_label_formatter(&x_fmt)
+        .y_label_formatter(&y_fmt)
+        .x_labels(X_LABELS)
+        .y_labels(Y_LABELS)
         .bold_line_style(BLACK.mix(0.12))
         .light_line_style(BLACK.mix(0.04))
         .axis_style(BLACK)
         .draw()?;
 
     for (index, series) in fig.series.iter().enumerate() {
-        let [r, g, b] = series
-            .colour
-            .unwrap_or(PALETTE[index % PALETTE.len()]);
+        let [r, g, b] = series.colour.unwrap_or(PALETTE[index % PALETTE.len()]);
         let colour = RGBColor(r, g, b);
         draw_series(&mut chart, series, frame, colour)?;
     }
@@ -156,7 +173,7 @@ where
 }
 
 fn draw_series<'a, DB, Y>(
-    chart: &mut ChartContext<'a, DB, Cartesian2d<RangedCoordf64, Y>>,
+    chart: &mut ChartContext<'a, DB, Cartesian2d<LinearAxis, Y>>,
     series: &Series,
     frame: &Frame,
     colour: RGBColor,
@@ -181,10 +198,8 @@ where
     let anno = match &series.kind {
         SeriesKind::Line => {
             let runs = frame.clip_polyline(&series.points);
-            let anno = chart.draw_series(
-                runs.into_iter()
-                    .map(|run| PathElement::new(run, line)),
-            )?;
+            let anno =
+                chart.draw_series(runs.into_iter().map(|run| PathElement::new(run, line)))?;
             Some((anno, GlyphKind::LegendLine))
         }
         SeriesKind::Points => {
@@ -197,7 +212,11 @@ where
         }
         SeriesKind::Bars => {
             let half = 0.5 * bar_width(&series.points, frame.log_y);
-            let base = if frame.log_y { frame.y.0 } else { frame.clamp_y(0.0) };
+            let base = if frame.log_y {
+                frame.y.0
+            } else {
+                frame.clamp_y(0.0)
+            };
             let fill = colour.mix(0.55).filled();
             let bars: Vec<[(f64, f64); 2]> = series
                 .points
@@ -305,7 +324,9 @@ impl<C, DB: DrawingBackend> Drawable<DB> for Glyph<C> {
         match self.kind {
             GlyphKind::Cap => backend.draw_line((x - cap, y), (x + cap, y), &thin),
             GlyphKind::LegendLine => backend.draw_line((x, y), (x + 20, y), &c.stroke_width(2)),
-            GlyphKind::LegendMarker => backend.draw_circle((x + 10, y), MARKER_RADIUS, &c.filled(), true),
+            GlyphKind::LegendMarker => {
+                backend.draw_circle((x + 10, y), MARKER_RADIUS, &c.filled(), true)
+            }
             GlyphKind::LegendBar => {
                 backend.draw_rect((x, y - 6), (x + 20, y + 6), &c.mix(0.55).filled(), true)?;
                 backend.draw_rect((x, y - 6), (x + 20, y + 6), &thin, false)
