@@ -18,7 +18,7 @@
 
 use edmd_core::{Barrier, Simulation, Vector};
 pub use tiny_skia::Pixmap;
-use tiny_skia::{Color, FillRule, Paint, PathBuilder, Rect, Stroke, Transform};
+use tiny_skia::{Color, Paint, PathBuilder, Rect, Stroke, Transform};
 
 /// How discs are coloured.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -178,36 +178,18 @@ pub fn draw_into(scene: &Scene, pm: &mut Pixmap) {
     if let Some(r) = Rect::from_ltrb(x0, y0, x1, y1) {
         pm.fill_rect(r, &paint(BACKGROUND), Transform::identity(), None);
     }
-    // Discs, with their periodic images where they stick out of the box.
-    let mut pb = PathBuilder::new();
-    let mut current: Option<[u8; 3]> = None;
-    let flush = |pb: &mut PathBuilder, pm: &mut Pixmap, colour: [u8; 3]| {
-        let path = std::mem::replace(pb, PathBuilder::new()).finish();
-        if let Some(path) = path {
-            pm.fill_path(
-                &path,
-                &paint(colour),
-                FillRule::Winding,
-                Transform::identity(),
-                None,
-            );
-        }
-    };
+    // Discs, with their periodic images where they stick out of the box. Filled by hand:
+    // coverage from the distance to the centre, which for thousands of small discs is many
+    // times cheaper than filling a path per disc (measured: 47 ms -> a few ms per frame at
+    // N = 10^4, see the viewer's draw_bench example).
     for (i, &p) in scene.positions.iter().enumerate() {
         let colour = scene.colours.get(i).copied().unwrap_or([0, 0, 0]);
-        if current.is_some_and(|c| c != colour) {
-            flush(&mut pb, pm, current.unwrap());
-        }
-        current = Some(colour);
         let r = scene.radii[i];
-        let rp = (r * vp.scale).max(0.5) as f32;
+        let rp = (r * vp.scale).max(0.5);
         for shift in images(p, r, scene) {
             let (cx, cy) = vp.to_pixel(p + shift);
-            pb.push_circle(cx, cy, rp);
+            fill_disc(pm, cx as f64, cy as f64, rp, colour);
         }
-    }
-    if let Some(c) = current {
-        flush(&mut pb, pm, c);
     }
     // Trails and highlighted discs.
     for trail in &scene.trails {
@@ -323,6 +305,42 @@ pub fn draw_into(scene: &Scene, pm: &mut Pixmap) {
                 WALL
             };
             pm.stroke_path(&path, &paint(colour), &stroke, Transform::identity(), None);
+        }
+    }
+}
+
+/// Fills a disc of radius `r` pixels centred at `(cx, cy)` (pixel `(x, y)` covers
+/// `[x, x + 1) x [y, y + 1)`), antialiased by the covered fraction `r + 1/2 - d` of each pixel,
+/// `d` the distance of the pixel's centre from the disc's; opaque colours over opaque pixels.
+fn fill_disc(pm: &mut Pixmap, cx: f64, cy: f64, r: f64, colour: [u8; 3]) {
+    let (w, h) = (pm.width() as i64, pm.height() as i64);
+    let x0 = ((cx - r - 1.0).floor() as i64).max(0);
+    let x1 = ((cx + r + 1.0).ceil() as i64).min(w - 1);
+    let y0 = ((cy - r - 1.0).floor() as i64).max(0);
+    let y1 = ((cy + r + 1.0).ceil() as i64).min(h - 1);
+    if x0 > x1 || y0 > y1 {
+        return;
+    }
+    let pixels = pm.pixels_mut();
+    for y in y0..=y1 {
+        let dy = y as f64 + 0.5 - cy;
+        let row = (y * w) as usize;
+        for x in x0..=x1 {
+            let dx = x as f64 + 0.5 - cx;
+            let cov = (r + 0.5 - (dx * dx + dy * dy).sqrt()).clamp(0.0, 1.0);
+            if cov <= 0.0 {
+                continue;
+            }
+            let dst = &mut pixels[row + x as usize];
+            let mix = |s: u8, d: u8| (s as f64 * cov + d as f64 * (1.0 - cov)).round() as u8;
+            let c = [
+                mix(colour[0], dst.red()),
+                mix(colour[1], dst.green()),
+                mix(colour[2], dst.blue()),
+            ];
+            if let Some(p) = tiny_skia::PremultipliedColorU8::from_rgba(c[0], c[1], c[2], 255) {
+                *dst = p;
+            }
         }
     }
 }

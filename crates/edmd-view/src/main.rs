@@ -1,0 +1,5 @@
+//! `edmd-view`: the interactive viewer (see the `edmd_view` library for the options).
+
+fn main() -> std::process::ExitCode {
+    edmd_view::main()
+}

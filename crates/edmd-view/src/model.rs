@@ -1,0 +1,347 @@
+//! The simulation side of the viewer, free of GUI types so that it can be tested without a
+//! window: the running simulation and its initial state, the tagged discs and their trails, and
+//! the live measurements (temperature, pressure, speed histogram).
+
+use edmd_core::measure::{kinetic_temperature, Pressure, Speeds, Temperature};
+use edmd_core::{EventKind, EventRecord, Observer, Simulation, Vector};
+use edmd_draw::{Colouring, Scene};
+
+/// Most points kept per trail; older points are dropped.
+pub const MAX_TRAIL_POINTS: usize = 50_000;
+
+/// Paths of the tagged discs, recorded at every event they take part in (so the drawn polyline
+/// is the exact path) and at every frame.
+#[derive(Clone, Debug, Default)]
+pub struct Trails {
+    tagged: Vec<usize>,
+    paths: Vec<Vec<Vector>>,
+}
+
+impl Trails {
+    /// The tagged discs, in the order they were tagged.
+    pub fn tagged(&self) -> &[usize] {
+        &self.tagged
+    }
+
+    /// The recorded path of each tagged disc, oldest point first.
+    pub fn paths(&self) -> &[Vec<Vector>] {
+        &self.paths
+    }
+
+    /// Tags disc `i` (starting its trail where it is now), or untags it if it was tagged.
+    /// Returns whether it is tagged now.
+    pub fn toggle(&mut self, i: usize, sim: &Simulation) -> bool {
+        if let Some(k) = self.tagged.iter().position(|&t| t == i) {
+            self.tagged.remove(k);
+            self.paths.remove(k);
+            false
+        } else {
+            self.tagged.push(i);
+            self.paths.push(vec![sim.position(i)]);
+            true
+        }
+    }
+
+    /// Restarts every trail at the discs' current positions.
+    pub fn restart(&mut self, sim: &Simulation) {
+        for (path, &i) in self.paths.iter_mut().zip(&self.tagged) {
+            path.clear();
+            path.push(sim.position(i));
+        }
+    }
+
+    /// Adds the current position of every tagged disc (called at each frame).
+    pub fn record(&mut self, sim: &Simulation) {
+        for k in 0..self.tagged.len() {
+            self.push(k, sim.position(self.tagged[k]));
+        }
+    }
+
+    fn push(&mut self, k: usize, p: Vector) {
+        let path = &mut self.paths[k];
+        if path.last() != Some(&p) {
+            path.push(p);
+        }
+        if path.len() > MAX_TRAIL_POINTS {
+            path.drain(..path.len() - MAX_TRAIL_POINTS / 2);
+        }
+    }
+}
+
+impl Observer for Trails {
+    fn on_event(&mut self, e: &EventRecord, sim: &Simulation) {
+        if self.tagged.is_empty() {
+            return;
+        }
+        let (a, b) = match e.kind {
+            EventKind::DiscDisc { i, j } => (i, Some(j)),
+            EventKind::Wall { i, .. }
+            | EventKind::Barrier { i, .. }
+            | EventKind::CellCrossing { i, .. } => (i, None),
+        };
+        for k in 0..self.tagged.len() {
+            let t = self.tagged[k];
+            if t == a || Some(t) == b {
+                self.push(k, sim.position(t));
+            }
+        }
+    }
+}
+
+/// One bin of the speed histogram against the 2D Maxwell-Boltzmann (Rayleigh) law.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SpeedBin {
+    /// Speed at the centre of the bin.
+    pub speed: f64,
+    /// Measured probability density.
+    pub density: f64,
+    /// Rayleigh density at the measured temperature.
+    pub rayleigh: f64,
+}
+
+/// The state behind the viewer window.
+#[derive(Clone, Debug)]
+pub struct Model {
+    initial: Simulation,
+    /// The running simulation.
+    pub sim: Simulation,
+    /// How discs are coloured.
+    pub colouring: Colouring,
+    trails: Trails,
+    pressure: Pressure,
+    temperature: Temperature,
+    pressure_series: Vec<[f64; 2]>,
+    speeds: Vec<SpeedBin>,
+}
+
+impl Model {
+    /// A viewer model starting from `sim` (kept for restarts).
+    pub fn new(sim: Simulation, colouring: Colouring) -> Self {
+        let mut m = Model {
+            pressure: Pressure::new(&sim),
+            initial: sim.clone(),
+            sim,
+            colouring,
+            trails: Trails::default(),
+            temperature: Temperature::new(),
+            pressure_series: Vec::new(),
+            speeds: Vec::new(),
+        };
+        m.sample();
+        m
+    }
+
+    /// Runs the simulation to time `t` exactly: every event up to `t` is processed.
+    pub fn run_until(&mut self, t: f64) {
+        self.sim
+            .run_until(t, &mut (&mut self.pressure, &mut self.trails));
+        self.trails.record(&self.sim);
+    }
+
+    /// Processes events up to and including the next one that changes a velocity (cell
+    /// crossings are bookkeeping and are passed over). Returns it, or `None` if nothing will
+    /// ever happen.
+    pub fn step_event(&mut self) -> Option<EventRecord> {
+        loop {
+            let e = self.sim.step(f64::INFINITY)?;
+            self.pressure.on_event(&e, &self.sim);
+            self.trails.on_event(&e, &self.sim);
+            if !matches!(e.kind, EventKind::CellCrossing { .. }) {
+                self.trails.record(&self.sim);
+                return Some(e);
+            }
+        }
+    }
+
+    /// Back to the initial state; tagged discs stay tagged, with fresh trails.
+    pub fn restart(&mut self) {
+        self.sim = self.initial.clone();
+        self.pressure = Pressure::new(&self.sim);
+        self.temperature = Temperature::new();
+        self.pressure_series.clear();
+        self.trails.restart(&self.sim);
+        self.sample();
+    }
+
+    /// Reverses every velocity: the system retraces its path (time-reversal demonstration).
+    pub fn reverse(&mut self) {
+        self.sim.reverse_velocities();
+    }
+
+    /// Tags disc `i` or untags it. Returns whether it is tagged now.
+    pub fn toggle_tag(&mut self, i: usize) -> bool {
+        self.trails.toggle(i, &self.sim)
+    }
+
+    /// The tagged discs and their trails.
+    pub fn trails(&self) -> &Trails {
+        &self.trails
+    }
+
+    /// Closes a measurement block: appends the temperature and the pressure over the time since
+    /// the last sample to their series, and takes a new speed histogram. The pressure needs
+    /// simulated time to have passed since the last sample.
+    pub fn sample(&mut self) {
+        let t = self.sim.time();
+        if self
+            .temperature
+            .series()
+            .last()
+            .is_none_or(|&(t0, _)| t > t0)
+        {
+            self.temperature.sample(&self.sim);
+        }
+        let before = self.pressure.blocks().len();
+        self.pressure.sample(&self.sim);
+        if let Some(b) = self.pressure.blocks().get(before) {
+            self.pressure_series.push([b.end, b.virial]);
+        }
+        self.speeds = speed_histogram(&self.sim, 40);
+    }
+
+    /// Temperature `kT` against time.
+    pub fn temperature_series(&self) -> Vec<[f64; 2]> {
+        self.temperature
+            .series()
+            .iter()
+            .map(|&(t, v)| [t, v])
+            .collect()
+    }
+
+    /// Virial pressure against time (one point per sample, averaged since the previous one).
+    pub fn pressure_series(&self) -> &[[f64; 2]] {
+        &self.pressure_series
+    }
+
+    /// The speed histogram of the last sample.
+    pub fn speeds(&self) -> &[SpeedBin] {
+        &self.speeds
+    }
+
+    /// What to draw now.
+    pub fn scene(&self) -> Scene {
+        let mut scene = Scene::capture(&self.sim, self.colouring);
+        scene.trails = self.trails.paths().to_vec();
+        scene.highlighted = self.trails.tagged().to_vec();
+        scene
+    }
+}
+
+/// Speed histogram of the current velocities, `bins` bins up to four times the RMS speed, with
+/// the Rayleigh density at the current temperature.
+pub fn speed_histogram(sim: &Simulation, bins: usize) -> Vec<SpeedBin> {
+    let n = sim.len();
+    if n == 0 {
+        return Vec::new();
+    }
+    let rms = ((0..n).map(|i| sim.velocity(i).norm2()).sum::<f64>() / n as f64).sqrt();
+    if rms <= 0.0 || !rms.is_finite() {
+        return Vec::new();
+    }
+    let mut speeds = Speeds::new(bins, 4.0 * rms);
+    speeds.sample(sim);
+    speeds
+        .histogram_vs_rayleigh(kinetic_temperature(sim))
+        .into_iter()
+        .map(|(speed, density, rayleigh)| SpeedBin {
+            speed,
+            density,
+            rayleigh,
+        })
+        .collect()
+}
+
+/// A default pace: simulated time per second of wall time at which a disc of RMS speed crosses
+/// a twentieth of the box's shorter side per second.
+pub fn default_speed(sim: &Simulation) -> f64 {
+    let n = sim.len().max(1);
+    let rms = ((0..sim.len()).map(|i| sim.velocity(i).norm2()).sum::<f64>() / n as f64).sqrt();
+    let l = sim
+        .sim_box()
+        .lengths
+        .iter()
+        .copied()
+        .fold(f64::INFINITY, f64::min);
+    let s = 0.05 * l / rms;
+    if s.is_finite() && s > 0.0 {
+        s
+    } else {
+        1.0
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use edmd_core::{Disc, Options, SimBox};
+
+    fn pair() -> Simulation {
+        // Head-on at t = 1 (contact distance 2, gap 2, closing speed 2).
+        let discs = [
+            Disc::new(Vector::new([3.0, 5.0]), Vector::new([1.0, 0.0]), 1.0),
+            Disc::new(Vector::new([7.0, 5.0]), Vector::new([-1.0, 0.0]), 1.0),
+        ];
+        Simulation::new(&discs, SimBox::walls([10.0, 10.0]), Options::default()).unwrap()
+    }
+
+    #[test]
+    fn a_trail_passes_through_every_collision() {
+        let mut m = Model::new(pair(), Colouring::File);
+        assert!(m.toggle_tag(0));
+        m.run_until(1.5);
+        let path = &m.trails().paths()[0];
+        // Start, the collision point, the frame point.
+        assert_eq!(path.first(), Some(&Vector::new([3.0, 5.0])));
+        assert!(path.contains(&Vector::new([4.0, 5.0])), "{path:?}");
+        assert_eq!(path.last(), Some(&Vector::new([3.5, 5.0])));
+        assert!(!m.toggle_tag(0));
+        assert!(m.trails().tagged().is_empty() && m.trails().paths().is_empty());
+    }
+
+    #[test]
+    fn reverse_then_run_returns_and_restart_resets() {
+        let mut m = Model::new(pair(), Colouring::File);
+        m.run_until(2.0);
+        assert_eq!(m.sim.stats().disc_disc, 1);
+        m.reverse();
+        m.run_until(4.0);
+        assert!((m.sim.position(0) - Vector::new([3.0, 5.0])).norm2() < 1e-24);
+        m.restart();
+        assert_eq!(m.sim.time(), 0.0);
+        assert_eq!(m.sim.stats().disc_disc, 0);
+        assert!(m.pressure_series().is_empty());
+    }
+
+    #[test]
+    fn a_step_is_one_velocity_changing_event() {
+        let mut m = Model::new(pair(), Colouring::File);
+        let e = m.step_event().unwrap();
+        assert!(matches!(e.kind, EventKind::DiscDisc { .. }));
+        assert_eq!(m.sim.time(), 1.0);
+    }
+
+    #[test]
+    fn samples_make_series_and_histogram() {
+        let mut m = Model::new(pair(), Colouring::Speed);
+        for k in 1..=3 {
+            m.run_until(k as f64);
+            m.sample();
+        }
+        m.sample(); // no time passed: nothing new
+        assert_eq!(m.temperature_series().len(), 4);
+        assert_eq!(m.temperature_series()[3], [3.0, 0.5]);
+        assert_eq!(m.pressure_series().len(), 3);
+        let h = m.speeds();
+        assert_eq!(h.len(), 40);
+        // Both discs have speed 1 = the RMS speed: all the weight in the bin holding 1.
+        let total: f64 = h.iter().map(|b| b.density).sum::<f64>() * (h[1].speed - h[0].speed);
+        assert!((total - 1.0).abs() < 1e-12);
+        assert!(h.iter().all(|b| b.rayleigh >= 0.0));
+        assert_eq!(m.scene().positions.len(), 2);
+    }
+
+    #[test]
+    fn default_speed_crosses_a_twentieth_of_the_box_per_second() {
+        assert_eq!(default_speed(&pair()), 0.5);
+    }
+}
