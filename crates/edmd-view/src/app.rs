@@ -168,6 +168,9 @@ impl ViewerApp {
     }
 
     fn keys(&mut self, ctx: &egui::Context) {
+        if ctx.input(|i| i.key_pressed(Key::F)) {
+            self.step_frame();
+        }
         let (space, right, r, v, c) = ctx.input(|i| {
             (
                 i.key_pressed(Key::Space),
@@ -197,6 +200,14 @@ impl ViewerApp {
             };
             self.redraw = true;
         }
+    }
+
+    /// One frame at the current speed (1/30 s of wall time), paused.
+    fn step_frame(&mut self) {
+        self.playing = false;
+        let t = self.model.sim.time() + self.speed / 30.0;
+        self.model.run_until(t);
+        self.redraw = true;
     }
 
     fn step_event(&mut self) {
@@ -307,6 +318,13 @@ impl ViewerApp {
                 self.step_event();
             }
             if ui
+                .button("Step frame")
+                .on_hover_text("F: advance by one frame (1/30 s at the current speed)")
+                .clicked()
+            {
+                self.step_frame();
+            }
+            if ui
                 .button("Restart")
                 .on_hover_text("R: back to the initial state")
                 .clicked()
@@ -384,7 +402,7 @@ impl ViewerApp {
         if !self.last_event.is_empty() {
             ui.label(&self.last_event);
         }
-        ui.small("Click a disc to tag it and draw its path; click again to untag. Keys: space play/pause, right arrow one event, R restart, V reverse, C colouring.");
+        ui.small("Click a disc to tag it and draw its path; click again to untag. Keys: space play/pause, right arrow one event, F one frame, R restart, V reverse, C colouring.");
         ui.separator();
         let h = ((ui.available_height() - 3.0 * 24.0) / 3.0).clamp(80.0, 220.0);
         ui.label("temperature kT");
