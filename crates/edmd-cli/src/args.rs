@@ -6,7 +6,11 @@ use clap::{Args, Parser, Subcommand, ValueEnum};
 
 /// Exact event-driven molecular dynamics of hard discs.
 #[derive(Debug, Parser)]
-#[command(name = "edmd", version, about)]
+#[command(
+    name = "edmd",
+    version,
+    about = "Exact event-driven molecular dynamics of hard discs"
+)]
 pub struct Cli {
     /// What to do.
     #[command(subcommand)]
