@@ -213,3 +213,70 @@ fn particles_refuses_bad_arguments_and_files() {
         assert!(out.stdout.is_empty(), "partial output for {args:?}");
     }
 }
+
+#[test]
+fn a_speed_whose_energy_overflows_is_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let f = write(&dir, "fast.txt", "1\n0.5 0.5 1e308 1e308 0.1 1 0 0 0\n");
+    let out = run("edmd", &["run", &f, "--until", "1"], None);
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("fast.txt:2: kinetic energy is not finite"),
+        "{err}"
+    );
+}
+
+#[test]
+fn ctrl_c_abandons_a_run_without_leaving_files() {
+    use std::process::{Command, Stdio};
+    let dir = tempfile::tempdir().unwrap();
+    let big = dir.path().join("big.txt");
+    let out = run(
+        "edmd",
+        &[
+            "gen",
+            "fluid",
+            "--n",
+            "5000",
+            "--packing",
+            "0.5",
+            "-o",
+            big.to_str().unwrap(),
+        ],
+        None,
+    );
+    assert!(out.status.success());
+    let child = Command::new(env!("CARGO_BIN_EXE_edmd"))
+        .args(["run", big.to_str().unwrap(), "--until", "1e9", "--output"])
+        .arg(dir.path().join("out.txt"))
+        .args(["--trajectory"])
+        .arg(dir.path().join("t.xyz"))
+        .args(["--every", "1000"])
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    std::thread::sleep(std::time::Duration::from_millis(1500));
+    assert!(Command::new("kill")
+        .args(["-INT", &child.id().to_string()])
+        .status()
+        .unwrap()
+        .success());
+    let out = child.wait_with_output().unwrap();
+    assert!(!out.status.success());
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("interrupted") && !err.contains("panicked"),
+        "{err}"
+    );
+    let left: Vec<_> = std::fs::read_dir(dir.path())
+        .unwrap()
+        .map(|e| e.unwrap().file_name())
+        .collect();
+    assert_eq!(
+        left,
+        vec![std::ffi::OsString::from("big.txt")],
+        "files left behind"
+    );
+}

@@ -1024,6 +1024,9 @@ fn validate_discs(discs: &[Disc], sim_box: &SimBox) -> Result<(), Error> {
         if !(d.mass.is_finite() && d.mass > 0.0) {
             return bad(&format!("mass {} is not a finite positive number", d.mass));
         }
+        if !(0.5 * d.mass * d.vel.norm2()).is_finite() {
+            return bad("kinetic energy is not finite (speed or mass too large)");
+        }
         for a in 0..DIM {
             if !sim_box.is_periodic(a) && 2.0 * d.radius > sim_box.lengths[a] {
                 return bad(&format!(

@@ -102,6 +102,7 @@ pub fn run(args: &RunArgs) -> Result<()> {
     };
 
     let e0 = sim.kinetic_energy();
+    crate::commands::experiment::common::install_ctrlc();
     let progress = progress_bar(args.until);
     let started = Instant::now();
     let mut frames = 0u64;
@@ -123,7 +124,7 @@ pub fn run(args: &RunArgs) -> Result<()> {
         if next > args.until {
             break;
         }
-        run_to(&mut sim, next, &progress, &mut obs);
+        run_to(&mut sim, next, &progress, &mut obs)?;
         if next_frame == Some(next) {
             let t = traj.as_mut().expect("frames only with a trajectory");
             edmd_io::xyz::write_frame(t.writer(), &sim.discs(), sim.sim_box(), next)?;
@@ -135,7 +136,7 @@ pub fn run(args: &RunArgs) -> Result<()> {
             samples += 1;
         }
     }
-    run_to(&mut sim, args.until, &progress, &mut obs);
+    run_to(&mut sim, args.until, &progress, &mut obs)?;
     let seconds = started.elapsed().as_secs_f64();
     if let Some(pb) = progress {
         pb.finish_and_clear();
@@ -249,26 +250,40 @@ fn human(s: &Summary) -> String {
     t
 }
 
+/// Runs to time `t`, updating the progress bar, in chunks of events so that Ctrl-C is noticed
+/// (then the run is abandoned: nothing is written, temporary files are removed). Positions
+/// are computed on demand, so stopping between chunks does not change the trajectory.
 fn run_to<O: Observer>(
     sim: &mut Simulation,
     t: f64,
     progress: &Option<indicatif::ProgressBar>,
     obs: &mut O,
-) {
-    match progress {
-        None => sim.run_until(t, obs),
-        Some(pb) => {
-            // Chunks of simulated time; positions are computed on demand, so stopping at the
-            // chunk ends does not change the trajectory.
-            let total = pb.length().unwrap_or(1) as f64;
-            let until = pb.message().parse::<f64>().unwrap_or(t);
-            while sim.time() < t {
-                let next = (sim.time() + until / total).min(t);
-                sim.run_until(next, obs);
-                pb.set_position((sim.time() / until * total) as u64);
+) -> Result<()> {
+    loop {
+        let mut more = true;
+        for _ in 0..100_000 {
+            match sim.step(t) {
+                Some(e) => obs.on_event(&e, sim),
+                None => {
+                    more = false;
+                    break;
+                }
             }
         }
+        if let Some(pb) = progress {
+            let total = pb.length().unwrap_or(1) as f64;
+            let until = pb.message().parse::<f64>().unwrap_or(t);
+            pb.set_position((sim.time() / until * total) as u64);
+        }
+        if crate::commands::experiment::common::stop_requested() {
+            anyhow::bail!("interrupted at t = {}: nothing written", sim.time());
+        }
+        if !more {
+            break;
+        }
     }
+    sim.run_until(t, obs);
+    Ok(())
 }
 
 fn progress_bar(until: f64) -> Option<indicatif::ProgressBar> {

@@ -33,7 +33,7 @@ pub fn install_ctrlc() {
         if STOP.swap(true, Ordering::SeqCst) {
             std::process::exit(130);
         }
-        eprintln!("\nstopping: writing what was measured so far (Ctrl-C again to quit at once)");
+        eprintln!("\nstopping (Ctrl-C again to quit at once)");
     });
 }
 
