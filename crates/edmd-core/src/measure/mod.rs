@@ -41,6 +41,7 @@ pub mod species;
 pub mod speeds;
 pub mod stats;
 pub mod temperature;
+pub mod theory;
 
 pub use collisions::{CollisionBlock, CollisionSummary, Collisions, DiscFlights};
 pub use diffusion::{Diffusion, DiffusionFit};

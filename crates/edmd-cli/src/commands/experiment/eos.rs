@@ -41,10 +41,7 @@ pub struct EosArgs {
     pub common: CommonArgs,
 }
 
-/// Henderson's equation of state for hard discs.
-pub fn henderson(eta: f64) -> f64 {
-    (1.0 + eta * eta / 8.0) / ((1.0 - eta) * (1.0 - eta))
-}
+use edmd_core::measure::theory::henderson_z as henderson;
 
 /// One packing fraction.
 #[derive(Debug, Serialize)]

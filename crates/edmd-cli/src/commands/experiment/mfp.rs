@@ -9,7 +9,7 @@
 
 use anyhow::Result;
 use clap::Args;
-use edmd_core::measure::Collisions;
+use edmd_core::measure::{theory, Collisions};
 use edmd_core::Boundary;
 use edmd_plot::{Figure, Series};
 use serde::Serialize;
@@ -38,9 +38,7 @@ pub struct MfpArgs {
 
 /// Enskog's mean free path for discs of diameter 1 at packing fraction `eta`.
 pub fn enskog_mean_free_path(eta: f64) -> f64 {
-    let n = eta / (std::f64::consts::PI / 4.0);
-    let g = (1.0 - 7.0 * eta / 16.0) / ((1.0 - eta) * (1.0 - eta));
-    1.0 / (2.0 * 2f64.sqrt() * n * g)
+    theory::enskog_mean_free_path(eta, 1.0)
 }
 
 /// One packing fraction.
@@ -107,9 +105,8 @@ pub fn run(args: &MfpArgs) -> Result<()> {
             obs.sample(&sim);
         }
         let s = obs.summary();
-        let density = eta / (std::f64::consts::PI / 4.0);
-        let g = (1.0 - 7.0 * eta / 16.0) / ((1.0 - eta) * (1.0 - eta));
-        let omega = 2.0 * density * g * std::f64::consts::PI.sqrt();
+        let density = theory::number_density(eta, 1.0);
+        let omega = theory::enskog_collision_frequency(eta, 1.0, 1.0, 1.0);
         if k == 0 {
             for (name, h, unit) in [
                 ("path", obs.free_path_histogram(), "diameters"),
