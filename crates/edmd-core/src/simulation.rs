@@ -164,6 +164,9 @@ pub struct Simulation {
     last_cluster: Vec<usize>,
 }
 
+/// "No partner found" in `predict` (disc indices are below `u32::MAX`).
+const NO_PARTNER: u32 = u32::MAX;
+
 /// The most internal barriers a simulation takes.
 pub const MAX_BARRIERS: usize = 8;
 
@@ -799,7 +802,9 @@ impl Simulation {
         let bi = self.body[i];
         let mut best_t = f64::INFINITY;
         let mut best = Pending::Nothing;
-        if let Some((dt, axis, side)) = self.grid.exit_time(i, bi.pos, bi.vel) {
+        let (dt, axis, high) = self.grid.exit_time(i, bi.pos, bi.vel);
+        if dt != f64::INFINITY {
+            let side = if high { Side::High } else { Side::Low };
             best_t = t0 + dt;
             best = Pending::Cell {
                 axis: axis as u8,
@@ -854,22 +859,26 @@ impl Simulation {
                 }
             }
         }
+        // The earliest pair is selected without branches: whether a pair beats the best so far
+        // is a coin toss for the branch predictor (BENCHMARKS.md). Strict `<` keeps the first
+        // found on ties.
         let body = &self.body;
+        let mut partner = NO_PARTNER;
         self.grid.for_each_near(self.grid.cell_of(i), |j, shift| {
-            if j == i {
-                return;
-            }
             let bj = &body[j];
             let pj = bj.position_at(t0) + shift;
             let t = t0 + contact_time_or_inf(pj - bi.pos, bj.vel - bi.vel, bi.radius + bj.radius);
-            if t < best_t {
-                best_t = t;
-                best = Pending::Disc {
-                    partner: j as u32,
-                    seen: bj.count,
-                };
-            }
+            // Disc `i` itself is at `dr = 0`, which never meets (`b = 0`): no test needed.
+            let keep = ((t < best_t) as u32).wrapping_neg();
+            partner = (j as u32 & keep) | (partner & !keep);
+            best_t = best_t.min(t);
         });
+        if partner != NO_PARTNER {
+            best = Pending::Disc {
+                partner,
+                seen: self.body[partner as usize].count,
+            };
+        }
         self.body[i].pending = best;
         self.queue.set(i, best_t);
     }

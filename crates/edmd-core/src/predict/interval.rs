@@ -12,19 +12,26 @@ pub enum Side {
     High,
 }
 
-/// Time until `x + v t` reaches `lo` (for `v < 0`) or `hi` (for `v > 0`); `None` for `v == 0`.
+/// Time until `x + v t` reaches `lo` (for `v < 0`) or `hi` (for `v > 0`); `None` for `v == 0` or
+/// an infinite end.
 ///
 /// A coordinate already past the end it is heading for (by rounding) exits at once: the time is
 /// clamped to zero, never negative.
 #[inline(always)]
 pub fn interval_exit(x: f64, v: f64, lo: f64, hi: f64) -> Option<(f64, Side)> {
-    if v > 0.0 {
-        Some((((hi - x) / v).max(0.0), Side::High))
-    } else if v < 0.0 {
-        Some((((lo - x) / v).max(0.0), Side::Low))
-    } else {
-        None
-    }
+    let (dt, high) = interval_exit_or_inf(x, v, lo, hi);
+    (dt != f64::INFINITY).then_some((dt, if high { Side::High } else { Side::Low }))
+}
+
+/// [`interval_exit`] with `+inf` for "never" and `true` for [`Side::High`], computed without
+/// branches: the sign of a velocity component is a coin toss for the branch predictor. An
+/// infinite `lo` or `hi` is an end that is never reached.
+#[inline(always)]
+pub fn interval_exit_or_inf(x: f64, v: f64, lo: f64, hi: f64) -> (f64, bool) {
+    let high = v > 0.0;
+    let end = if high { hi } else { lo };
+    let dt = ((end - x) / v).max(0.0);
+    (if v != 0.0 { dt } else { f64::INFINITY }, high)
 }
 
 #[cfg(test)]

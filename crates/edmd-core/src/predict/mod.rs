@@ -8,4 +8,4 @@ pub mod disc_disc;
 pub mod interval;
 
 pub use disc_disc::{contact_time_or_inf, time_to_contact};
-pub use interval::{interval_exit, Side};
+pub use interval::{interval_exit, interval_exit_or_inf, Side};
