@@ -32,7 +32,7 @@ use crate::predict::barrier::{across, time_to_barrier, time_to_doorway, Contact}
 use crate::predict::{contact_time_or_inf, interval_exit};
 use crate::resolve::wall::{reflect, reflect_normal};
 use crate::resolve::CollisionRule;
-use crate::schedule::{EventQueue, TournamentQueue};
+use crate::schedule::{CalendarQueue, EventQueue};
 use crate::state::{Barrier, Colour, Disc, SimBox, System};
 
 /// Relative tolerance on overlaps and wall penetration: discs closer than
@@ -144,7 +144,7 @@ pub struct Simulation {
     species: Vec<u16>,
     /// Periodic images crossed per disc, for unwrapped positions.
     image: Vec<[i32; DIM]>,
-    queue: TournamentQueue,
+    queue: CalendarQueue,
     grid: CellGrid,
     /// Time of the last processed event: the reference time of predictions.
     event_time: f64,
@@ -279,7 +279,7 @@ impl Simulation {
             colour: discs.iter().map(|d| d.colour).collect(),
             species: discs.iter().map(|d| d.species).collect(),
             image: vec![[0; DIM]; n],
-            queue: TournamentQueue::with_len(n),
+            queue: CalendarQueue::with_len(n),
             grid,
             event_time: 0.0,
             now: 0.0,
@@ -327,6 +327,7 @@ impl Simulation {
     }
 
     fn schedule_all(&mut self) {
+        self.queue.begin_bulk();
         for i in 0..self.body.len() {
             if !self.below.is_empty() {
                 let p = self.body[i].position_at(self.event_time);
@@ -338,6 +339,7 @@ impl Simulation {
             }
             self.predict(i);
         }
+        self.queue.end_bulk(self.event_time);
     }
 
     /// The internal barriers.

@@ -69,7 +69,7 @@ impl EventQueue for TournamentQueue {
     }
 
     #[inline]
-    fn min(&self) -> Option<(usize, f64)> {
+    fn min(&mut self) -> Option<(usize, f64)> {
         if self.n == 0 {
             return None;
         }

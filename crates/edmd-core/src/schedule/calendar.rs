@@ -1,0 +1,400 @@
+//! A calendar queue (R. Brown 1988; for EDMD, G. Paul, J. Comput. Phys. 221 (2007) 615): time
+//! is cut into buckets of equal width, each an unsorted doubly linked list of the discs whose
+//! event falls in it, and only the current bucket is kept sorted. Setting a disc's time is
+//! O(1) (unlink, link), where a binary tree replays O(log N) matches; the minimum is the end of
+//! the sorted current bucket.
+//!
+//! `M` buckets (a power of two, about `2 N`) cover the times ahead cyclically; events beyond
+//! them wait in an overflow list and are put in their buckets when the calendar comes round.
+//! The width is chosen from the times in the queue so that a bucket holds a few events, and is
+//! chosen again whenever the calendar comes round with buckets far too full or too empty.
+//!
+//! Bucket numbers are `floor((t - origin) / width)`, a monotone function of `t` under rounding,
+//! so an earlier event is never in a later bucket, and equal times share a bucket, where they
+//! are sorted by disc index: the engine's tie rule holds exactly.
+
+use super::EventQueue;
+
+/// `slot` value of a disc in the sorted current bucket.
+const CURRENT: u32 = u32::MAX;
+/// `slot` value of a disc in the overflow list.
+const OVERFLOW: u32 = u32::MAX - 1;
+/// End of a list.
+const NONE: u32 = u32::MAX;
+/// Events per bucket the width aims at.
+const PER_BUCKET: f64 = 3.0;
+
+/// Calendar queue over per-disc event times.
+#[derive(Clone, Debug)]
+pub struct CalendarQueue {
+    time: Vec<f64>,
+    /// Bucket (`0..M`) holding each disc, or [`CURRENT`] or [`OVERFLOW`].
+    slot: Vec<u32>,
+    next: Vec<u32>,
+    prev: Vec<u32>,
+    /// First disc of each bucket's list.
+    head: Vec<u32>,
+    overflow: u32,
+    /// The current bucket, sorted by decreasing `(time, disc)`: the minimum is last.
+    current: Vec<(f64, u32)>,
+    /// Absolute number of the current bucket.
+    cur: u64,
+    origin: f64,
+    inv_width: f64,
+    /// Discs in buckets (not counting the current one or the overflow).
+    in_buckets: usize,
+    /// Buckets opened and discs taken from them since the calendar last came round.
+    opened: u64,
+    taken: u64,
+    /// Between [`EventQueue::begin_bulk`] and [`EventQueue::end_bulk`]: `set` only records.
+    bulk: bool,
+}
+
+impl CalendarQueue {
+    /// Bytes held.
+    pub fn memory_bytes(&self) -> usize {
+        self.time.capacity() * 8
+            + (self.slot.capacity() + self.next.capacity() + self.prev.capacity()) * 4
+            + self.head.capacity() * 4
+            + self.current.capacity() * 16
+    }
+
+    fn buckets(&self) -> u64 {
+        self.head.len() as u64
+    }
+
+    /// Absolute bucket number of time `t`, or `None` beyond the calendar's horizon.
+    #[inline(always)]
+    fn bucket_of(&self, t: f64) -> Option<u64> {
+        let x = (t - self.origin) * self.inv_width;
+        // `floor(x) < horizon` for a whole `horizon`; `as` truncates, which is `floor` for
+        // `x >= 0` (and needs no call to libm's `floor`).
+        let horizon = (self.cur + self.buckets()) as f64;
+        if x < horizon {
+            // Negative (an event before the origin) counts as now.
+            Some((x.max(0.0) as u64).max(self.cur))
+        } else {
+            None
+        }
+    }
+
+    #[inline(always)]
+    fn link(&mut self, i: usize, list_head: u32) -> u32 {
+        self.next[i] = list_head;
+        self.prev[i] = NONE;
+        if list_head != NONE {
+            self.prev[list_head as usize] = i as u32;
+        }
+        i as u32
+    }
+
+    #[inline(always)]
+    fn insert(&mut self, i: usize) {
+        let t = self.time[i];
+        match self.bucket_of(t) {
+            Some(b) if b == self.cur => {
+                let key = (t, i as u32);
+                // Decreasing order: the first place whose entry is below `key`.
+                let at = self.current.partition_point(|&e| e > key);
+                self.current.insert(at, key);
+                self.slot[i] = CURRENT;
+            }
+            Some(b) => {
+                let s = (b & (self.buckets() - 1)) as usize;
+                self.head[s] = self.link(i, self.head[s]);
+                self.slot[i] = s as u32;
+                self.in_buckets += 1;
+            }
+            None => {
+                self.overflow = self.link(i, self.overflow);
+                self.slot[i] = OVERFLOW;
+            }
+        }
+    }
+
+    #[inline(always)]
+    fn remove(&mut self, i: usize) {
+        match self.slot[i] {
+            CURRENT => {
+                let key = (self.time[i], i as u32);
+                // Mostly the front disc, whose event was just processed: the last entry.
+                if self.current.last() == Some(&key) {
+                    self.current.pop();
+                } else {
+                    let at = self.current.partition_point(|&e| e > key);
+                    debug_assert_eq!(self.current[at], key);
+                    self.current.remove(at);
+                }
+            }
+            s => {
+                let (p, n) = (self.prev[i], self.next[i]);
+                if p != NONE {
+                    self.next[p as usize] = n;
+                } else if s == OVERFLOW {
+                    self.overflow = n;
+                } else {
+                    self.head[s as usize] = n;
+                }
+                if n != NONE {
+                    self.prev[n as usize] = p;
+                }
+                if s != OVERFLOW {
+                    self.in_buckets -= 1;
+                }
+            }
+        }
+    }
+
+    /// Moves on to the next non-empty bucket and sorts it into `current` (which is empty).
+    /// Returns false if nothing finite is left.
+    fn advance(&mut self) -> bool {
+        loop {
+            if self.in_buckets == 0 {
+                // Only the overflow is left: start the calendar again at its earliest time.
+                let mut first = f64::INFINITY;
+                let mut j = self.overflow;
+                while j != NONE {
+                    first = first.min(self.time[j as usize]);
+                    j = self.next[j as usize];
+                }
+                if first == f64::INFINITY {
+                    return false;
+                }
+                self.rebuild(first);
+                if !self.current.is_empty() {
+                    return true;
+                }
+                continue;
+            }
+            self.cur += 1;
+            if self.cur.is_multiple_of(self.buckets()) {
+                // May re-tune (and start again at bucket 0) or file overflow events, some of
+                // them into `current`.
+                self.came_round();
+            }
+            let s = (self.cur & (self.buckets() - 1)) as usize;
+            let mut j = self.head[s];
+            self.head[s] = NONE;
+            self.opened += 1;
+            while j != NONE {
+                self.current.push((self.time[j as usize], j));
+                self.slot[j as usize] = CURRENT;
+                self.in_buckets -= 1;
+                self.taken += 1;
+                j = self.next[j as usize];
+            }
+            if self.current.is_empty() {
+                self.opened -= 1;
+                continue;
+            }
+            self.sort_current();
+            return true;
+        }
+    }
+
+    /// Sorts `current` by decreasing `(time, disc)`. Pairs are distinct (one entry per disc),
+    /// so the unstable sort is deterministic.
+    fn sort_current(&mut self) {
+        self.current.sort_unstable_by(|a, b| {
+            b.0.partial_cmp(&a.0)
+                .expect("times are never NaN")
+                .then(b.1.cmp(&a.1))
+        });
+    }
+
+    /// The calendar has come round: re-tune the width if buckets were far from a few events
+    /// each, otherwise file the overflow events that are now within the horizon.
+    fn came_round(&mut self) {
+        let mean = if self.opened > 0 {
+            self.taken as f64 / self.opened as f64
+        } else {
+            0.0
+        };
+        self.opened = 0;
+        self.taken = 0;
+        if !(PER_BUCKET / 4.0..=PER_BUCKET * 4.0).contains(&mean) {
+            let now = self.cur as f64 / self.inv_width + self.origin;
+            self.rebuild(now);
+            return;
+        }
+        let mut j = self.overflow;
+        self.overflow = NONE;
+        while j != NONE {
+            let next = self.next[j as usize];
+            self.insert(j as usize);
+            j = next;
+        }
+    }
+
+    /// Files every disc again with the calendar starting at time `now`, the width chosen from
+    /// the finite times ahead.
+    fn rebuild(&mut self, now: f64) {
+        let (mut sum, mut count) = (0.0, 0usize);
+        for &t in &self.time {
+            if t.is_finite() {
+                sum += (t - now).max(0.0);
+                count += 1;
+            }
+        }
+        // The mean time ahead spreads `count` events over about twice that span.
+        let span = if count > 0 {
+            2.0 * sum / count as f64
+        } else {
+            0.0
+        };
+        let width = span * PER_BUCKET / count.max(1) as f64;
+        self.inv_width = if width > 0.0 && width.is_finite() {
+            1.0 / width
+        } else {
+            1.0
+        };
+        if !self.inv_width.is_finite() {
+            self.inv_width = 1.0;
+        }
+        self.origin = now;
+        self.cur = 0;
+        self.head.fill(NONE);
+        self.overflow = NONE;
+        self.current.clear();
+        self.in_buckets = 0;
+        self.opened = 0;
+        self.taken = 0;
+        for i in 0..self.time.len() {
+            match self.bucket_of(self.time[i]) {
+                // Sorted once below rather than one insertion at a time.
+                Some(b) if b == self.cur => {
+                    self.current.push((self.time[i], i as u32));
+                    self.slot[i] = CURRENT;
+                }
+                _ => self.insert(i),
+            }
+        }
+        self.sort_current();
+    }
+}
+
+impl EventQueue for CalendarQueue {
+    fn with_len(n: usize) -> Self {
+        let m = (2 * n).max(2).next_power_of_two();
+        let mut q = CalendarQueue {
+            time: vec![f64::INFINITY; n],
+            slot: vec![OVERFLOW; n],
+            next: vec![NONE; n],
+            prev: vec![NONE; n],
+            head: vec![NONE; m],
+            overflow: NONE,
+            current: Vec::new(),
+            cur: 0,
+            origin: 0.0,
+            inv_width: 1.0,
+            in_buckets: 0,
+            opened: 0,
+            taken: 0,
+            bulk: false,
+        };
+        for i in 0..n {
+            q.overflow = q.link(i, q.overflow);
+        }
+        q
+    }
+
+    #[inline]
+    fn set(&mut self, i: usize, t: f64) {
+        debug_assert!(!t.is_nan());
+        if self.bulk {
+            self.time[i] = t;
+            return;
+        }
+        self.remove(i);
+        self.time[i] = t;
+        self.insert(i);
+    }
+
+    fn begin_bulk(&mut self) {
+        self.bulk = true;
+    }
+
+    fn end_bulk(&mut self, now: f64) {
+        self.bulk = false;
+        self.rebuild(now);
+    }
+
+    #[inline]
+    fn min(&mut self) -> Option<(usize, f64)> {
+        if self.time.is_empty() {
+            return None;
+        }
+        if self.current.is_empty() && !self.advance() {
+            return Some((0, f64::INFINITY));
+        }
+        let &(t, i) = self
+            .current
+            .last()
+            .expect("advance filled the current bucket");
+        Some((i as usize, t))
+    }
+
+    #[inline]
+    fn get(&self, i: usize) -> f64 {
+        self.time[i]
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::schedule::ReferenceQueue;
+
+    /// Engine-like use over many turns of the calendar, with a time scale that jumps by 1000
+    /// halfway: the queue must agree with the reference at every step, come round, use the
+    /// overflow, and re-tune its width.
+    #[test]
+    fn agrees_with_reference_across_turns_overflow_and_retuning() {
+        let n = 50;
+        let mut a = CalendarQueue::with_len(n);
+        let mut b = ReferenceQueue::with_len(n);
+        let mut seed = 12345u64;
+        let mut uniform = move || {
+            seed = seed
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (seed >> 11) as f64 / (1u64 << 53) as f64
+        };
+        a.begin_bulk();
+        for i in 0..n {
+            let t = uniform();
+            a.set(i, t);
+            b.set(i, t);
+        }
+        a.end_bulk(0.0);
+        let width0 = 1.0 / a.inv_width;
+        let mut overflowed = false;
+        for step in 0..40_000 {
+            let (x, y) = (a.min(), b.min());
+            assert_eq!(x, y, "step {step}");
+            let (i, now) = x.unwrap();
+            let scale = if step < 20_000 { 1.0 } else { 1000.0 };
+            // Mostly near events, some far beyond the horizon, a few never.
+            let u = uniform();
+            let t = if u < 0.02 {
+                f64::INFINITY
+            } else if u < 0.1 {
+                now + scale * 1e3 * uniform()
+            } else {
+                now + scale * uniform()
+            };
+            a.set(i, t);
+            b.set(i, t);
+            overflowed |= a.slot[i] == OVERFLOW && t.is_finite();
+            // Another disc changes course too, as a collision partner does.
+            let j = (uniform() * n as f64) as usize;
+            let t = now + scale * uniform();
+            a.set(j, t);
+            b.set(j, t);
+        }
+        assert!(overflowed, "the overflow list was used");
+        assert!(a.cur > 0, "the calendar moved on");
+        let width1 = 1.0 / a.inv_width;
+        assert!(width1 > 100.0 * width0, "re-tuned: {width0} -> {width1}");
+    }
+}
