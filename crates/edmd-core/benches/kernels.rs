@@ -7,7 +7,7 @@ use std::hint::black_box;
 
 use criterion::{criterion_group, criterion_main, Criterion};
 use edmd_core::predict::{contact_time_or_inf, interval_exit};
-use edmd_core::schedule::{EventQueue, TournamentQueue};
+use edmd_core::schedule::{CalendarQueue, EventQueue, TournamentQueue};
 use edmd_core::Vector;
 
 fn kernels(c: &mut Criterion) {
@@ -35,21 +35,29 @@ fn kernels(c: &mut Criterion) {
     });
 }
 
+/// Pops the front disc and reschedules it, and moves another disc's time on, as an event does.
+fn pop_and_reschedule<Q: EventQueue>(c: &mut Criterion, name: &str, n: usize) {
+    let mut q = Q::with_len(n);
+    q.begin_bulk();
+    for i in 0..n {
+        q.set(i, (i as f64 * 0.618).fract());
+    }
+    q.end_bulk(0.0);
+    let mut k = 0usize;
+    c.bench_function(&format!("{name}_pop_and_reschedule_{n}"), |b| {
+        b.iter(|| {
+            let (i, t) = q.min().unwrap();
+            k = (k + 7919) % n;
+            q.set(i, t + 1.0 + (k as f64 * 1e-6));
+            q.set(k, q.get(k) + 1e-3);
+        })
+    });
+}
+
 fn queue(c: &mut Criterion) {
     for n in [10_000usize, 1_000_000] {
-        let mut q = TournamentQueue::with_len(n);
-        for i in 0..n {
-            q.set(i, (i as f64 * 0.618).fract());
-        }
-        let mut k = 0usize;
-        c.bench_function(&format!("tournament_pop_and_reschedule_{n}"), |b| {
-            b.iter(|| {
-                let (i, t) = q.min().unwrap();
-                k = (k + 7919) % n;
-                q.set(i, t + 1.0 + (k as f64 * 1e-6));
-                q.set(k, q.get(k) + 1e-3);
-            })
-        });
+        pop_and_reschedule::<TournamentQueue>(c, "tournament", n);
+        pop_and_reschedule::<CalendarQueue>(c, "calendar", n);
     }
 }
 

@@ -3,7 +3,7 @@
 //! Discs move in straight lines and collide elastically with each other and with the walls of
 //! a box; the engine jumps from one collision to the next, never by time steps. Per-event cost
 //! does not grow with N: every disc keeps its own clock, a cell grid limits collision tests to
-//! nearby discs, and a tournament tree holds one pending event per disc with lazy
+//! nearby discs, and a calendar queue holds one pending event per disc with lazy
 //! invalidation. See `ARCHITECTURE.md` for the flow of an event.
 //!
 //! ```

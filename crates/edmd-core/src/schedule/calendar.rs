@@ -167,7 +167,7 @@ impl CalendarQueue {
                 continue;
             }
             self.cur += 1;
-            if self.cur.is_multiple_of(self.buckets()) {
+            if self.cur & (self.buckets() - 1) == 0 {
                 // May re-tune (and start again at bucket 0) or file overflow events, some of
                 // them into `current`.
                 self.came_round();
