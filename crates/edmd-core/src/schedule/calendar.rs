@@ -7,7 +7,8 @@
 //! `M` buckets (a power of two, about `2 N`) cover the times ahead cyclically; events beyond
 //! them wait in an overflow list and are put in their buckets when the calendar comes round.
 //! The width is chosen from the times in the queue so that a bucket holds a few events, and is
-//! chosen again whenever the calendar comes round with buckets far too full or too empty.
+//! chosen again whenever the calendar comes round with buckets far too full or too empty, or
+//! when the current bucket grows far too long (at most once per N updates).
 //!
 //! Bucket numbers are `floor((t - origin) / width)`, a monotone function of `t` under rounding,
 //! so an earlier event is never in a later bucket, and equal times share a bucket, where they
@@ -23,6 +24,8 @@ const OVERFLOW: u32 = u32::MAX - 1;
 const NONE: u32 = u32::MAX;
 /// Events per bucket the width aims at.
 const PER_BUCKET: f64 = 3.0;
+/// A current bucket longer than this makes the queue re-tune its width.
+const OVERFULL: usize = 64;
 
 /// Calendar queue over per-disc event times.
 #[derive(Clone, Debug)]
@@ -48,6 +51,8 @@ pub struct CalendarQueue {
     taken: u64,
     /// Between [`EventQueue::begin_bulk`] and [`EventQueue::end_bulk`]: `set` only records.
     bulk: bool,
+    /// Updates since the last rebuild.
+    sets: u64,
 }
 
 impl CalendarQueue {
@@ -259,6 +264,7 @@ impl CalendarQueue {
         self.in_buckets = 0;
         self.opened = 0;
         self.taken = 0;
+        self.sets = 0;
         for i in 0..self.time.len() {
             match self.bucket_of(self.time[i]) {
                 // Sorted once below rather than one insertion at a time.
@@ -291,6 +297,7 @@ impl EventQueue for CalendarQueue {
             opened: 0,
             taken: 0,
             bulk: false,
+            sets: 0,
         };
         for i in 0..n {
             q.overflow = q.link(i, q.overflow);
@@ -308,6 +315,13 @@ impl EventQueue for CalendarQueue {
         self.remove(i);
         self.time[i] = t;
         self.insert(i);
+        self.sets += 1;
+        // A current bucket far too full (the time scale has shrunk, so the calendar would not
+        // come round to re-tune itself): re-tune now, at most once per N updates.
+        if self.current.len() > OVERFULL && self.sets > self.time.len() as u64 {
+            let now = self.current.last().map_or(t, |e| e.0);
+            self.rebuild(now);
+        }
     }
 
     fn begin_bulk(&mut self) {
@@ -345,12 +359,12 @@ mod tests {
     use super::*;
     use crate::schedule::ReferenceQueue;
 
-    /// Engine-like use over many turns of the calendar, with a time scale that jumps by 1000
-    /// halfway: the queue must agree with the reference at every step, come round, use the
-    /// overflow, and re-tune its width.
+    /// Engine-like use over many turns of the calendar, with a time scale that grows 1000-fold
+    /// and then shrinks a millionfold: the queue must agree with the reference at every step,
+    /// come round, use the overflow, and re-tune its width both ways.
     #[test]
     fn agrees_with_reference_across_turns_overflow_and_retuning() {
-        let n = 50;
+        let n = 300;
         let mut a = CalendarQueue::with_len(n);
         let mut b = ReferenceQueue::with_len(n);
         let mut seed = 12345u64;
@@ -369,11 +383,20 @@ mod tests {
         a.end_bulk(0.0);
         let width0 = 1.0 / a.inv_width;
         let mut overflowed = false;
-        for step in 0..40_000 {
+        let mut came_round = false;
+        let mut width1 = 0.0;
+        for step in 0..60_000 {
+            if step == 40_000 {
+                width1 = 1.0 / a.inv_width;
+            }
             let (x, y) = (a.min(), b.min());
             assert_eq!(x, y, "step {step}");
             let (i, now) = x.unwrap();
-            let scale = if step < 20_000 { 1.0 } else { 1000.0 };
+            let scale = match step {
+                0..20_000 => 1.0,
+                20_000..40_000 => 1000.0,
+                _ => 1e-3,
+            };
             // Mostly near events, some far beyond the horizon, a few never.
             let u = uniform();
             let t = if u < 0.02 {
@@ -386,6 +409,7 @@ mod tests {
             a.set(i, t);
             b.set(i, t);
             overflowed |= a.slot[i] == OVERFLOW && t.is_finite();
+            came_round |= a.cur >= a.buckets();
             // Another disc changes course too, as a collision partner does.
             let j = (uniform() * n as f64) as usize;
             let t = now + scale * uniform();
@@ -393,8 +417,10 @@ mod tests {
             b.set(j, t);
         }
         assert!(overflowed, "the overflow list was used");
-        assert!(a.cur > 0, "the calendar moved on");
-        let width1 = 1.0 / a.inv_width;
+        assert!(came_round, "the calendar came round");
         assert!(width1 > 100.0 * width0, "re-tuned: {width0} -> {width1}");
+        // Then the time scale shrinks a millionfold: the overfull current bucket re-tunes it.
+        let width2 = 1.0 / a.inv_width;
+        assert!(width2 < 1e-4 * width1, "re-tuned: {width1} -> {width2}");
     }
 }
