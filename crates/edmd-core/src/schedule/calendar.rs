@@ -180,7 +180,7 @@ impl CalendarQueue {
             let s = (self.cur & (self.buckets() - 1)) as usize;
             let mut j = self.head[s];
             self.head[s] = NONE;
-            self.opened += 1;
+            self.opened += (j != NONE) as u64;
             while j != NONE {
                 self.current.push((self.time[j as usize], j));
                 self.slot[j as usize] = CURRENT;
@@ -189,7 +189,6 @@ impl CalendarQueue {
                 j = self.next[j as usize];
             }
             if self.current.is_empty() {
-                self.opened -= 1;
                 continue;
             }
             self.sort_current();
@@ -247,15 +246,13 @@ impl CalendarQueue {
         } else {
             0.0
         };
-        let width = span * PER_BUCKET / count.max(1) as f64;
-        self.inv_width = if width > 0.0 && width.is_finite() {
-            1.0 / width
+        let inv_width = count.max(1) as f64 / (span * PER_BUCKET);
+        // No spread of times (or none finite): any width will do.
+        self.inv_width = if inv_width.is_finite() && inv_width > 0.0 {
+            inv_width
         } else {
             1.0
         };
-        if !self.inv_width.is_finite() {
-            self.inv_width = 1.0;
-        }
         self.origin = now;
         self.cur = 0;
         self.head.fill(NONE);
