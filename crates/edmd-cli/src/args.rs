@@ -154,6 +154,9 @@ pub struct BenchArgs {
     /// Random seed for the velocities.
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
+    /// Time the portable event loop even where the processor runs the x86-64-v3 one.
+    #[arg(long)]
+    pub portable: bool,
 }
 
 fn parse_number(s: &str) -> Result<f64, String> {

@@ -54,6 +54,33 @@ fn bench_prints_one_json_line() {
     ok_stdout(&walls);
 }
 
+/// `--portable` times the portable event loop; both loops process the same events.
+#[test]
+fn portable_loop_processes_the_same_events() {
+    let bench = |extra: &[&str]| {
+        let mut args = vec![
+            "bench",
+            "--n",
+            "400",
+            "--packing",
+            "0.6",
+            "--melt",
+            "2",
+            "--collisions",
+            "2",
+        ];
+        args.extend_from_slice(extra);
+        let v: serde_json::Value =
+            serde_json::from_str(&ok_stdout(&run("edmd", &args, None))).unwrap();
+        v
+    };
+    let (fast, portable) = (bench(&[]), bench(&["--portable"]));
+    assert_eq!(portable["event_loop"], "portable");
+    for key in ["collisions", "events", "stale", "relative_energy_change"] {
+        assert_eq!(fast[key], portable[key], "{key}");
+    }
+}
+
 #[test]
 fn impossible_packing_is_a_clear_error() {
     let out = run("edmd", &["bench", "--n", "400", "--packing", "0.95"], None);

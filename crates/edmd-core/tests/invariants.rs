@@ -171,6 +171,39 @@ fn golden_digest_of_a_fixed_run() {
 const GOLDEN_COLLISIONS: u64 = 12850;
 const GOLDEN_DIGEST: u64 = 0xa617_9587_1d1a_7d78;
 
+/// The event loop compiled for x86-64-v3 (chosen at run time where the processor has it) and the
+/// portable one are the same code: they must agree bit for bit, with walls and periodic
+/// boundaries, with unequal discs, and under the golden run.
+#[test]
+fn both_event_loops_give_the_same_trajectory() {
+    let mut systems = vec![lattice_fluid(1000, 0.45, Boundary::Periodic, 2024).unwrap()];
+    systems.push((
+        random_discs(200, 40.0, 0.5, 1.5, true, 11),
+        SimBox::walls([40.0, 40.0]),
+    ));
+    systems.push((
+        random_discs(200, 40.0, 0.5, 1.5, false, 12),
+        SimBox::periodic([40.0, 40.0]),
+    ));
+    for (discs, bx) in systems {
+        let mut fast = Simulation::new(&discs, bx, Options::default()).unwrap();
+        let mut portable = fast.clone();
+        assert!(!portable.set_portable_loop(true));
+        #[cfg(target_arch = "x86_64")]
+        if std::is_x86_feature_detected!("avx2") && std::is_x86_feature_detected!("fma") {
+            assert!(
+                fast.set_portable_loop(false),
+                "the x86-64-v3 loop is not in use"
+            );
+        }
+        fast.run_until(20.0, &mut ());
+        portable.run_until(20.0, &mut ());
+        assert!(fast.stats().disc_disc > 1000, "{:?}", fast.stats());
+        assert_eq!(fast.stats(), portable.stats());
+        assert_eq!(digest(&fast.discs()), digest(&portable.discs()));
+    }
+}
+
 #[test]
 fn reversing_velocities_retraces_the_path() {
     // 100 discs, about 300 collisions forward then the same time back: every disc returns to

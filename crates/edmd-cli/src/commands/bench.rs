@@ -29,6 +29,8 @@ pub struct BenchResult {
     pub seconds: f64,
     /// Disc-disc collisions per second.
     pub collisions_per_second: f64,
+    /// Which copy of the event loop ran: `x86-64-v3` or `portable`.
+    pub event_loop: &'static str,
     /// Cells per axis.
     pub grid: [u32; 2],
     /// Bytes held by the engine's arrays, per disc.
@@ -51,6 +53,7 @@ pub fn run(args: &BenchArgs) -> Result<()> {
     };
     let mut sim = Simulation::new(&discs, sim_box, Options::default())?;
     drop(discs);
+    let v3 = sim.set_portable_loop(args.portable);
     let e0 = sim.kinetic_energy();
     let melt = args.melt * args.n as u64;
     while sim.stats().disc_disc < melt {
@@ -80,6 +83,7 @@ pub fn run(args: &BenchArgs) -> Result<()> {
         stale: after.stale - before.stale,
         seconds,
         collisions_per_second: collisions as f64 / seconds,
+        event_loop: if v3 { "x86-64-v3" } else { "portable" },
         grid: [g[0], g[1]],
         engine_bytes_per_disc: sim.memory_bytes() as f64 / args.n as f64,
         peak_rss_bytes_per_disc: peak_rss_bytes().map(|b| b as f64 / args.n as f64),

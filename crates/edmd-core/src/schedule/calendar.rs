@@ -302,7 +302,7 @@ impl EventQueue for CalendarQueue {
         q
     }
 
-    #[inline]
+    #[inline(always)]
     fn set(&mut self, i: usize, t: f64) {
         debug_assert!(!t.is_nan());
         if self.bulk {
@@ -330,7 +330,7 @@ impl EventQueue for CalendarQueue {
         self.rebuild(now);
     }
 
-    #[inline]
+    #[inline(always)]
     fn min(&mut self) -> Option<(usize, f64)> {
         if self.time.is_empty() {
             return None;
