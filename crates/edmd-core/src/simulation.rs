@@ -26,6 +26,7 @@
 use crate::cells::CellGrid;
 use crate::error::Error;
 use crate::events::{BarrierHit, EventKind, EventRecord, Pending, Side, Wall};
+use crate::hint::prefetch;
 use crate::math::{Vector, DIM};
 use crate::observer::Observer;
 use crate::predict::barrier::{across, time_to_barrier, time_to_doorway, Contact};
@@ -630,6 +631,7 @@ impl Simulation {
             if t > t_limit || t == f64::INFINITY {
                 return None;
             }
+            self.prefetch_upcoming();
             if self.discard_if_stale(i) {
                 continue;
             }
@@ -658,6 +660,34 @@ impl Simulation {
             }
             return Some(record);
         }
+    }
+
+    /// Starts loading what the next events will read, so that memory latency overlaps with the
+    /// work of this one (BENCHMARKS.md: 1.2 to 1.6 M collisions/s at N = 10^5). A pipeline
+    /// over the next three discs in the queue, each stage needing what the one before
+    /// requested an event earlier: the third disc's record and cell; the second disc's
+    /// partner's record and the list heads of its neighbourhood; the first disc in each cell
+    /// around the next disc. Hints only: nothing here changes the results.
+    #[inline(always)]
+    fn prefetch_upcoming(&self) {
+        let mut up = self.queue.upcoming();
+        let (Some(k1), k2, k3) = (up.next(), up.next(), up.next()) else {
+            return;
+        };
+        if let Some(k3) = k3 {
+            prefetch(&self.body[k3]);
+            self.grid.prefetch_cell_of(k3);
+        }
+        if let Some(k2) = k2 {
+            if let Pending::Disc { partner, .. } = self.body[k2].pending {
+                prefetch(&self.body[partner as usize]);
+            }
+            self.grid.prefetch_heads_around(k2);
+        }
+        // An empty cell gives `NONE`, clamped to some disc: cheaper than a branch.
+        let last = self.body.len() as u32 - 1;
+        self.grid
+            .prefetch_first_around(k1, |j| prefetch(&self.body[j.min(last) as usize]));
     }
 
     /// If disc `i`'s pending event names a partner that has changed course since, predicts `i`

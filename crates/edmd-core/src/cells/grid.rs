@@ -125,6 +125,39 @@ impl CellGrid {
         self.cell[i]
     }
 
+    /// Prefetches the entry that says which cell disc `i` is in.
+    #[inline(always)]
+    pub fn prefetch_cell_of(&self, i: usize) {
+        crate::hint::prefetch(&self.cell[i]);
+    }
+
+    /// Prefetches the list heads of the cells around disc `i`'s (away from the grid's edges;
+    /// a hint only).
+    #[inline(always)]
+    pub fn prefetch_heads_around(&self, i: usize) {
+        let c = self.cell[i];
+        if (0..DIM).all(|a| c[a] >= 1 && c[a] + 2 <= self.dims[a]) {
+            let base = self.linear(c) as isize;
+            for off in self.linear_offsets {
+                crate::hint::prefetch(&self.head[(base + off) as usize]);
+            }
+        }
+    }
+
+    /// Calls `f` with the first disc of each cell around disc `i`'s (away from the grid's
+    /// edges), for prefetching; with `NONE` for an empty cell (no branch: whether a cell is
+    /// empty is a coin toss).
+    #[inline(always)]
+    pub fn prefetch_first_around(&self, i: usize, mut f: impl FnMut(u32)) {
+        let c = self.cell[i];
+        if (0..DIM).all(|a| c[a] >= 1 && c[a] + 2 <= self.dims[a]) {
+            let base = self.linear(c) as isize;
+            for off in self.linear_offsets {
+                f(self.head[(base + off) as usize]);
+            }
+        }
+    }
+
     /// Files disc `i` in cell `c`.
     pub fn insert(&mut self, i: usize, c: CellCoord) {
         let k = self.linear(c);

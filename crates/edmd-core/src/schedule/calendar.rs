@@ -64,6 +64,13 @@ impl CalendarQueue {
             + self.current.capacity() * 16
     }
 
+    /// The discs whose events come after the front one, nearest first, as far as the sorted
+    /// current bucket reaches (for prefetching; events scheduled later may come in between).
+    #[inline(always)]
+    pub fn upcoming(&self) -> impl Iterator<Item = usize> + '_ {
+        self.current.iter().rev().skip(1).map(|e| e.1 as usize)
+    }
+
     fn buckets(&self) -> u64 {
         self.head.len() as u64
     }
