@@ -5,6 +5,8 @@
 //! [`UserError`]s: one line on standard error and exit status 2. Nothing is written before
 //! everything has been validated, and output files appear whole or not at all.
 
+#![forbid(unsafe_code)]
+
 pub mod args;
 pub mod commands;
 pub mod input;

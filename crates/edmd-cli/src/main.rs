@@ -1,5 +1,7 @@
 //! `edmd`: exact event-driven molecular dynamics of hard discs.
 
+#![forbid(unsafe_code)]
+
 use std::process::ExitCode;
 
 use edmd_cli::args::{Cli, Command};

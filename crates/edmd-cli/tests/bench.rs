@@ -76,6 +76,12 @@ fn portable_loop_processes_the_same_events() {
     };
     let (fast, portable) = (bench(&[]), bench(&["--portable"]));
     assert_eq!(portable["event_loop"], "portable");
+    let fast_loop = if edmd_core::simulation::x86_64_v3_available() {
+        "x86-64-v3"
+    } else {
+        "portable"
+    };
+    assert_eq!(fast["event_loop"], fast_loop);
     for key in ["collisions", "events", "stale", "relative_energy_change"] {
         assert_eq!(fast[key], portable[key], "{key}");
     }

@@ -2,7 +2,7 @@
 
 /// Asks the processor to start loading `x` into the cache (a hint: no effect on results).
 #[inline(always)]
-pub fn prefetch<T>(x: &T) {
+pub(crate) fn prefetch<T>(x: &T) {
     #[cfg(target_arch = "x86_64")]
     {
         use std::arch::x86_64::{_mm_prefetch, _MM_HINT_T0};

@@ -24,7 +24,7 @@
 pub mod cells;
 pub mod error;
 pub mod events;
-pub mod hint;
+pub(crate) mod hint;
 pub mod math;
 pub mod measure;
 pub mod observer;

@@ -177,7 +177,17 @@ const NO_PARTNER: u32 = u32::MAX;
 /// "No disc" in the list of discs to predict again after an event.
 const NO_DISC: usize = usize::MAX;
 
-/// Whether this processor runs x86-64-v3 code (checked once; see `Simulation::run_loop`).
+/// Whether this processor runs the event loop compiled for x86-64-v3 (AVX, AVX2, FMA, BMI1,
+/// BMI2, LZCNT, POPCNT, MOVBE; checked once). Always false off x86-64.
+pub fn x86_64_v3_available() -> bool {
+    #[cfg(target_arch = "x86_64")]
+    {
+        x86_64_v3()
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    false
+}
+
 #[cfg(target_arch = "x86_64")]
 fn x86_64_v3() -> bool {
     use std::sync::OnceLock;
@@ -571,8 +581,9 @@ impl Simulation {
 
     /// Processes up to `n` events with time `<= t_limit`; returns how many.
     ///
-    /// On x86-64 processors with the x86-64-v3 instruction set (AVX2, FMA, BMI: every x86-64
-    /// processor since about 2015) the loop runs in a copy compiled for it, chosen at run time:
+    /// On x86-64 processors with the x86-64-v3 instruction set (AVX2, FMA, BMI: most x86-64
+    /// processors made since about 2015, though not Atom-class ones and not every Pentium or
+    /// Celeron) the loop runs in a copy compiled for it, chosen at run time:
     /// 3-operand instructions make it about 10% faster (BENCHMARKS.md). Both copies are the
     /// same Rust code and give bit-identical results: Rust never fuses a multiply and an add
     /// by itself, so the extra instructions change nothing but speed.
@@ -642,8 +653,9 @@ impl Simulation {
             self.event_time = t;
             self.now = t;
             // The handlers change the state; the discs whose course changed (or whose cell
-            // did) are predicted again here, in one place, so that the prediction is inlined
-            // once into each copy of the loop.
+            // did) are predicted again here, in one place rather than in every handler, so
+            // that each copy of the loop inlines the prediction twice (here and for stale
+            // events) instead of six times.
             let (record, again) = match self.body[i].pending {
                 Pending::Disc { partner, .. } => self.collide(i, partner as usize, t),
                 Pending::Wall { axis, side } => {
@@ -689,7 +701,7 @@ impl Simulation {
             self.grid.prefetch_heads_around(k2);
         }
         // An empty cell gives `NONE`, clamped to some disc: cheaper than a branch.
-        let last = self.body.len() as u32 - 1;
+        let last = (self.body.len() as u32).saturating_sub(1);
         self.grid
             .prefetch_first_around(k1, |j| prefetch(&self.body[j.min(last) as usize]));
     }

@@ -2,8 +2,8 @@
 
 use edmd_core::setup::lattice_fluid;
 use edmd_core::{
-    Boundary, Disc, EventKind, EventRecord, Observer, Options, SimBox, Simulation, Vector,
-    OVERLAP_TOLERANCE,
+    Barrier, Boundary, Demon, Disc, EventKind, EventRecord, MultiContact, Observer, Options,
+    SimBox, Simulation, Vector, OVERLAP_TOLERANCE,
 };
 use proptest::prelude::*;
 
@@ -173,35 +173,89 @@ const GOLDEN_DIGEST: u64 = 0xa617_9587_1d1a_7d78;
 
 /// The event loop compiled for x86-64-v3 (chosen at run time where the processor has it) and the
 /// portable one are the same code: they must agree bit for bit, with walls and periodic
-/// boundaries, with unequal discs, and under the golden run.
+/// boundaries, unequal discs, a demon's door and multi-disc collisions, and under the golden run.
 #[test]
 fn both_event_loops_give_the_same_trajectory() {
-    let mut systems = vec![lattice_fluid(1000, 0.45, Boundary::Periodic, 2024).unwrap()];
+    let none: Vec<Barrier> = Vec::new();
+    let mut systems = Vec::new();
+    let (discs, bx) = lattice_fluid(1000, 0.45, Boundary::Periodic, 2024).unwrap();
+    systems.push((discs, bx, none.clone(), Options::default()));
+    let bx = SimBox::walls([40.0, 40.0]);
     systems.push((
         random_discs(200, 40.0, 0.5, 1.5, true, 11),
-        SimBox::walls([40.0, 40.0]),
+        bx,
+        none.clone(),
+        Options::default(),
     ));
+    let door = Barrier {
+        axis: 0,
+        position: 20.0,
+        door: Some((15.0, 25.0)),
+        demon: Some(Demon {
+            fast: 1.2,
+            slow: 0.8,
+        }),
+    };
+    let discs: Vec<Disc> = random_discs(200, 40.0, 0.5, 1.5, true, 13)
+        .into_iter()
+        .filter(|d| (d.pos[0] - 20.0).abs() > d.radius)
+        .collect();
+    systems.push((discs, bx, vec![door], Options::default()));
+    let bx = SimBox::periodic([40.0, 40.0]);
     systems.push((
         random_discs(200, 40.0, 0.5, 1.5, false, 12),
-        SimBox::periodic([40.0, 40.0]),
+        bx,
+        none.clone(),
+        Options::default(),
     ));
-    for (discs, bx) in systems {
-        let mut fast = Simulation::new(&discs, bx, Options::default()).unwrap();
+    let multi = Options {
+        multi: Some(MultiContact::default()),
+        ..Options::default()
+    };
+    let (discs, bx) = lattice_fluid(400, 0.6, Boundary::Walls, 5).unwrap();
+    systems.push((discs, bx, none, multi));
+    let v3 = cfg!(target_arch = "x86_64") && has_x86_64_v3();
+    for (discs, bx, barriers, options) in systems {
+        let mut fast = Simulation::with_barriers(&discs, bx, &barriers, options).unwrap();
         let mut portable = fast.clone();
         assert!(!portable.set_portable_loop(true));
-        #[cfg(target_arch = "x86_64")]
-        if std::is_x86_feature_detected!("avx2") && std::is_x86_feature_detected!("fma") {
-            assert!(
-                fast.set_portable_loop(false),
-                "the x86-64-v3 loop is not in use"
-            );
-        }
-        fast.run_until(20.0, &mut ());
+        assert_eq!(fast.set_portable_loop(false), v3);
+        let mut clusters = Clusters(0);
+        fast.run_until(20.0, &mut clusters);
         portable.run_until(20.0, &mut ());
         assert!(fast.stats().disc_disc > 1000, "{:?}", fast.stats());
+        if options.multi.is_some() {
+            assert!(clusters.0 > 10, "only {} multi-disc collisions", clusters.0);
+        }
         assert_eq!(fast.stats(), portable.stats());
         assert_eq!(digest(&fast.discs()), digest(&portable.discs()));
     }
+}
+
+/// Counts collisions of more than two discs.
+struct Clusters(u64);
+
+impl Observer for Clusters {
+    fn on_event(&mut self, _: &EventRecord, sim: &Simulation) {
+        self.0 += (sim.last_cluster().len() > 2) as u64;
+    }
+}
+
+/// Whether the processor has every feature the x86-64-v3 loop is compiled for.
+fn has_x86_64_v3() -> bool {
+    #[cfg(target_arch = "x86_64")]
+    {
+        std::is_x86_feature_detected!("avx")
+            && std::is_x86_feature_detected!("avx2")
+            && std::is_x86_feature_detected!("fma")
+            && std::is_x86_feature_detected!("bmi1")
+            && std::is_x86_feature_detected!("bmi2")
+            && std::is_x86_feature_detected!("lzcnt")
+            && std::is_x86_feature_detected!("popcnt")
+            && std::is_x86_feature_detected!("movbe")
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    false
 }
 
 #[test]

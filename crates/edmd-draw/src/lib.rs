@@ -16,6 +16,8 @@
 //! assert_eq!((pixmap.width(), pixmap.height()), (200, 200));
 //! ```
 
+#![forbid(unsafe_code)]
+
 use edmd_core::{Barrier, Simulation, Vector};
 pub use tiny_skia::Pixmap;
 use tiny_skia::{Color, Paint, PathBuilder, Rect, Stroke, Transform};

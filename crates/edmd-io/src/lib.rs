@@ -9,6 +9,8 @@
 //! wrong, and engine-level problems (overlaps, discs outside the box) can be traced back to a
 //! line through the per-disc line numbers every reader returns.
 
+#![forbid(unsafe_code)]
+
 pub mod course;
 pub mod princeton;
 mod text;

@@ -19,6 +19,8 @@
 //! measurements: `--screenshot FILE.png --quit-after SECONDS` saves a real screenshot of the
 //! window and quits; `--fps-report` prints the mean frame rate on exit.
 
+#![forbid(unsafe_code)]
+
 pub mod app;
 pub mod args;
 pub mod model;

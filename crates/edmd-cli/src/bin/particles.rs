@@ -1,5 +1,7 @@
 //! `particles FILE T`: the "Collisions" course program.
 
+#![forbid(unsafe_code)]
+
 use std::process::ExitCode;
 
 use edmd_cli::commands::particles::{run, ParticlesArgs};

@@ -127,14 +127,14 @@ impl CellGrid {
 
     /// Prefetches the entry that says which cell disc `i` is in.
     #[inline(always)]
-    pub fn prefetch_cell_of(&self, i: usize) {
+    pub(crate) fn prefetch_cell_of(&self, i: usize) {
         crate::hint::prefetch(&self.cell[i]);
     }
 
     /// Prefetches the list heads of the cells around disc `i`'s (away from the grid's edges;
     /// a hint only).
     #[inline(always)]
-    pub fn prefetch_heads_around(&self, i: usize) {
+    pub(crate) fn prefetch_heads_around(&self, i: usize) {
         let c = self.cell[i];
         if (0..DIM).all(|a| c[a] >= 1 && c[a] + 2 <= self.dims[a]) {
             let base = self.linear(c) as isize;
@@ -148,7 +148,7 @@ impl CellGrid {
     /// edges), for prefetching; with `NONE` for an empty cell (no branch: whether a cell is
     /// empty is a coin toss).
     #[inline(always)]
-    pub fn prefetch_first_around(&self, i: usize, mut f: impl FnMut(u32)) {
+    pub(crate) fn prefetch_first_around(&self, i: usize, mut f: impl FnMut(u32)) {
         let c = self.cell[i];
         if (0..DIM).all(|a| c[a] >= 1 && c[a] + 2 <= self.dims[a]) {
             let base = self.linear(c) as isize;

@@ -67,7 +67,7 @@ impl CalendarQueue {
     /// The discs whose events come after the front one, nearest first, as far as the sorted
     /// current bucket reaches (for prefetching; events scheduled later may come in between).
     #[inline(always)]
-    pub fn upcoming(&self) -> impl Iterator<Item = usize> + '_ {
+    pub(crate) fn upcoming(&self) -> impl Iterator<Item = usize> + '_ {
         self.current.iter().rev().skip(1).map(|e| e.1 as usize)
     }
 
