@@ -3,26 +3,29 @@
 
 use crate::support::{ok_stdout, run};
 
+/// `edmd bench` on 400 discs at packing 0.6, 2 + 2 collisions per disc, with `extra` options:
+/// its one line of output, parsed.
+fn small_bench(extra: &[&str]) -> serde_json::Value {
+    let mut args = vec![
+        "bench",
+        "--n",
+        "400",
+        "--packing",
+        "0.6",
+        "--melt",
+        "2",
+        "--collisions",
+        "2",
+    ];
+    args.extend_from_slice(extra);
+    let text = ok_stdout(&run("edmd", &args, None));
+    assert_eq!(text.lines().count(), 1);
+    serde_json::from_str(&text).unwrap()
+}
+
 #[test]
 fn bench_prints_one_json_line() {
-    let out = run(
-        "edmd",
-        &[
-            "bench",
-            "--n",
-            "400",
-            "--packing",
-            "0.6",
-            "--melt",
-            "2",
-            "--collisions",
-            "2",
-        ],
-        None,
-    );
-    let text = ok_stdout(&out);
-    assert_eq!(text.lines().count(), 1);
-    let v: serde_json::Value = serde_json::from_str(&text).unwrap();
+    let v = small_bench(&[]);
     for key in [
         "n",
         "packing",
@@ -57,24 +60,7 @@ fn bench_prints_one_json_line() {
 /// `--portable` times the portable event loop; both loops process the same events.
 #[test]
 fn portable_loop_processes_the_same_events() {
-    let bench = |extra: &[&str]| {
-        let mut args = vec![
-            "bench",
-            "--n",
-            "400",
-            "--packing",
-            "0.6",
-            "--melt",
-            "2",
-            "--collisions",
-            "2",
-        ];
-        args.extend_from_slice(extra);
-        let v: serde_json::Value =
-            serde_json::from_str(&ok_stdout(&run("edmd", &args, None))).unwrap();
-        v
-    };
-    let (fast, portable) = (bench(&[]), bench(&["--portable"]));
+    let (fast, portable) = (small_bench(&[]), small_bench(&["--portable"]));
     assert_eq!(portable["event_loop"], "portable");
     let fast_loop = if edmd_core::simulation::x86_64_v3_available() {
         "x86-64-v3"

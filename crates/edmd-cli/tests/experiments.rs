@@ -216,19 +216,7 @@ fn brownian_big_disc_diffuses() {
 #[test]
 fn every_generator_writes_a_file_that_runs_and_the_seed_decides() {
     let dir = tempfile::tempdir().unwrap();
-    for kind in [
-        "single",
-        "head-on",
-        "angled",
-        "one-red",
-        "lattice",
-        "diffusion1",
-        "diffusion2",
-        "dense",
-        "brownian",
-        "fluid",
-        "mixture",
-    ] {
+    for kind in edmd_core::setup::GenKind::NAMES {
         let f = dir.path().join(format!("{kind}.txt"));
         let g = dir.path().join(format!("{kind}-again.txt"));
         for p in [&f, &g] {

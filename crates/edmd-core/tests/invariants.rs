@@ -214,7 +214,7 @@ fn both_event_loops_give_the_same_trajectory() {
     };
     let (discs, bx) = lattice_fluid(400, 0.6, Boundary::Walls, 5).unwrap();
     systems.push((discs, bx, none, multi));
-    let v3 = cfg!(target_arch = "x86_64") && has_x86_64_v3();
+    let v3 = edmd_core::simulation::x86_64_v3_available();
     for (discs, bx, barriers, options) in systems {
         let mut fast = Simulation::with_barriers(&discs, bx, &barriers, options).unwrap();
         let mut portable = fast.clone();
@@ -239,23 +239,6 @@ impl Observer for Clusters {
     fn on_event(&mut self, _: &EventRecord, sim: &Simulation) {
         self.0 += (sim.last_cluster().len() > 2) as u64;
     }
-}
-
-/// Whether the processor has every feature the x86-64-v3 loop is compiled for.
-fn has_x86_64_v3() -> bool {
-    #[cfg(target_arch = "x86_64")]
-    {
-        std::is_x86_feature_detected!("avx")
-            && std::is_x86_feature_detected!("avx2")
-            && std::is_x86_feature_detected!("fma")
-            && std::is_x86_feature_detected!("bmi1")
-            && std::is_x86_feature_detected!("bmi2")
-            && std::is_x86_feature_detected!("lzcnt")
-            && std::is_x86_feature_detected!("popcnt")
-            && std::is_x86_feature_detected!("movbe")
-    }
-    #[cfg(not(target_arch = "x86_64"))]
-    false
 }
 
 #[test]

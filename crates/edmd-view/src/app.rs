@@ -406,42 +406,23 @@ impl ViewerApp {
         ui.separator();
         let h = ((ui.available_height() - 3.0 * 24.0) / 3.0).clamp(80.0, 220.0);
         ui.label("temperature kT");
-        Plot::new("temperature")
-            .height(h)
-            .allow_drag(false)
-            .allow_zoom(false)
-            .allow_scroll(false)
-            .allow_boxed_zoom(false)
-            .include_y(0.0)
-            .show(ui, |p| {
-                p.line(Line::new(
-                    "kT",
-                    PlotPoints::new(self.model.temperature_series()),
-                ));
-            });
+        fixed_plot("temperature", h).include_y(0.0).show(ui, |p| {
+            p.line(Line::new(
+                "kT",
+                PlotPoints::new(self.model.temperature_series()),
+            ));
+        });
         ui.label("pressure (virial)");
-        Plot::new("pressure")
-            .height(h)
-            .allow_drag(false)
-            .allow_zoom(false)
-            .allow_scroll(false)
-            .allow_boxed_zoom(false)
-            .include_y(0.0)
-            .show(ui, |p| {
-                p.line(Line::new(
-                    "P",
-                    PlotPoints::new(self.model.pressure_series().to_vec()),
-                ));
-            });
+        fixed_plot("pressure", h).include_y(0.0).show(ui, |p| {
+            p.line(Line::new(
+                "P",
+                PlotPoints::new(self.model.pressure_series().to_vec()),
+            ));
+        });
         ui.label("speeds against Maxwell-Boltzmann (Rayleigh)");
         let bins = self.model.speeds();
         let width = bins.get(1).map_or(1.0, |b| b.speed - bins[0].speed);
-        Plot::new("speeds")
-            .height(h)
-            .allow_drag(false)
-            .allow_zoom(false)
-            .allow_scroll(false)
-            .allow_boxed_zoom(false)
+        fixed_plot("speeds", h)
             .legend(Legend::default())
             .show(ui, |p| {
                 let bars = bins
@@ -583,4 +564,15 @@ pub fn save_png(path: &Path, image: &ColorImage) -> std::io::Result<()> {
         .write_image_data(&data)
         .map_err(std::io::Error::other)?;
     writer.finish().map_err(std::io::Error::other)
+}
+
+/// A plot of height `h` that the mouse cannot move or zoom (the side panel's plots follow the
+/// run).
+fn fixed_plot(id: &str, h: f32) -> Plot<'static> {
+    Plot::new(id)
+        .height(h)
+        .allow_drag(false)
+        .allow_zoom(false)
+        .allow_scroll(false)
+        .allow_boxed_zoom(false)
 }
