@@ -120,7 +120,7 @@ pub struct RunArgs {
     #[arg(long, value_enum, value_delimiter = ',')]
     pub measure: Vec<crate::commands::measurements::Measure>,
     /// Interval between measurement samples (default: a hundredth of --until).
-    #[arg(long, value_name = "DT", value_parser = parse_positive, requires = "measure")]
+    #[arg(long, value_name = "DT", value_parser = parse_positive, requires = "measure", allow_negative_numbers = true)]
     pub sample_every: Option<f64>,
     /// Folder for the measurement CSV files.
     #[arg(long, value_name = "DIR", default_value = ".", requires = "measure")]
@@ -146,13 +146,13 @@ pub struct BenchArgs {
     #[arg(long, value_enum, default_value_t = BoundaryArg::Periodic)]
     pub boundary: BoundaryArg,
     /// Disc-disc collisions per disc run to melt the lattice before timing.
-    #[arg(long, default_value_t = 20)]
+    #[arg(long, default_value_t = 20, allow_negative_numbers = true)]
     pub melt: u64,
     /// Disc-disc collisions per disc to time.
-    #[arg(long, default_value_t = 50)]
+    #[arg(long, default_value_t = 50, allow_negative_numbers = true)]
     pub collisions: u64,
     /// Random seed for the velocities.
-    #[arg(long, default_value_t = 1)]
+    #[arg(long, default_value_t = 1, allow_negative_numbers = true)]
     pub seed: u64,
     /// Time the portable event loop even where the processor runs the x86-64-v3 one.
     #[arg(long)]

@@ -9,21 +9,86 @@ use edmd_io::{Format, LoadedSystem};
 
 use crate::user_error;
 
-/// Reads `path` (`-` for standard input) as text.
+/// The longest line a data file may have.
+pub const MAX_LINE: usize = 64 * 1024;
+/// The largest data file read (about ten million discs).
+pub const MAX_FILE: usize = 1 << 30;
+
+/// Reads `path` (`-` for standard input) as text, stopping at the first problem: a NUL byte
+/// or invalid UTF-8 (not a text file), a line longer than [`MAX_LINE`], or more than
+/// [`MAX_FILE`] bytes. So `/dev/zero` or `/dev/urandom` end at once with a message naming the
+/// line.
 pub fn read_text(path: &str) -> Result<String> {
-    let mut text = String::new();
-    let res = if path == "-" {
-        std::io::stdin().read_to_string(&mut text).map(|_| ())
+    let mut reader: Box<dyn Read> = if path == "-" {
+        Box::new(std::io::stdin().lock())
     } else {
-        std::fs::read_to_string(path).map(|t| text = t)
-    };
-    match res {
-        Ok(()) => Ok(text),
-        Err(e) if e.kind() == std::io::ErrorKind::InvalidData => {
-            user_error(format!("{path}: not a text file (invalid UTF-8)"))
+        if std::fs::metadata(path).is_ok_and(|m| m.is_dir()) {
+            return user_error(format!("{path}: cannot read: is a folder, not a data file"));
         }
-        Err(e) => user_error(format!("{path}: cannot read: {e}")),
+        match std::fs::File::open(path) {
+            Ok(f) => Box::new(f),
+            Err(e) => return user_error(format!("{path}: cannot read: {e}")),
+        }
+    };
+    let mut bytes: Vec<u8> = Vec::new();
+    let mut chunk = vec![0u8; 64 * 1024];
+    let mut line = 1usize;
+    let mut line_len = 0usize;
+    // Bytes before `checked` are valid UTF-8 and have been scanned.
+    let mut checked = 0usize;
+    loop {
+        let got = match reader.read(&mut chunk) {
+            Ok(0) => break,
+            Ok(k) => k,
+            Err(e) if e.kind() == std::io::ErrorKind::Interrupted => continue,
+            Err(e) => return user_error(format!("{path}: cannot read: {e}")),
+        };
+        if bytes.len() + got > MAX_FILE {
+            return user_error(format!(
+                "{path}: the file is larger than {} MiB, the most a data file may have",
+                MAX_FILE >> 20
+            ));
+        }
+        bytes.extend_from_slice(&chunk[..got]);
+        let valid_to = match std::str::from_utf8(&bytes[checked..]) {
+            Ok(_) => bytes.len(),
+            Err(e) if e.error_len().is_none() => checked + e.valid_up_to(),
+            Err(e) => {
+                let bad = checked + e.valid_up_to();
+                scan(path, &bytes[checked..bad], &mut line, &mut line_len)?;
+                return user_error(format!("{path}:{line}: not a text file (invalid UTF-8)"));
+            }
+        };
+        scan(path, &bytes[checked..valid_to], &mut line, &mut line_len)?;
+        checked = valid_to;
     }
+    if checked < bytes.len() {
+        return user_error(format!("{path}:{line}: not a text file (invalid UTF-8)"));
+    }
+    Ok(String::from_utf8(bytes).expect("checked"))
+}
+
+/// Counts lines in valid text, refusing NUL bytes and over-long lines.
+fn scan(path: &str, text: &[u8], line: &mut usize, line_len: &mut usize) -> Result<()> {
+    for &b in text {
+        match b {
+            b'\n' => {
+                *line += 1;
+                *line_len = 0;
+            }
+            0 => return user_error(format!("{path}:{line}: not a text file (NUL byte)")),
+            _ => {
+                *line_len += 1;
+                if *line_len > MAX_LINE {
+                    return user_error(format!(
+                        "{path}:{line}: the line is longer than {} KiB",
+                        MAX_LINE / 1024
+                    ));
+                }
+            }
+        }
+    }
+    Ok(())
 }
 
 /// Parses a file in `format` (`None`: detect; a detected Princeton file is read with `order`).
@@ -45,16 +110,38 @@ pub fn load(
 
 /// Builds the simulation, translating engine refusals into messages naming lines.
 pub fn build(path: &str, sys: &LoadedSystem, options: Options) -> Result<Simulation> {
+    build_with_hint(path, sys, options, true)
+}
+
+/// [`build`], with or without the hint that `--allow-overlaps` runs a refused file (the
+/// `particles` program has no such option, so it points to `edmd run` instead).
+pub fn build_with_hint(
+    path: &str,
+    sys: &LoadedSystem,
+    options: Options,
+    allow_overlaps_option: bool,
+) -> Result<Simulation> {
+    let (overlap_hint, outside_hint) = if allow_overlaps_option {
+        (
+            "--allow-overlaps runs it anyway",
+            "--allow-overlaps moves them in",
+        )
+    } else {
+        (
+            "particles refuses it; 'edmd run --rule swap --allow-overlaps' runs it",
+            "particles refuses it; 'edmd run --rule swap --allow-overlaps' moves them in",
+        )
+    };
     Simulation::with_barriers(&sys.discs, sys.sim_box, &sys.barriers, options).or_else(|e| {
         let line = |i: usize| sys.lines.get(i).copied().unwrap_or(0);
         let msg = match e {
             EngineError::Overlap { i, j, overlap, count } => format!(
-                "{path}:{}: this disc overlaps the disc on line {} by {overlap:.3e} of their contact distance ({count} overlapping pair(s) in all; --allow-overlaps runs it anyway)",
+                "{path}:{}: this disc overlaps the disc on line {} by {overlap:.3e} of their contact distance ({count} overlapping pair(s) in all; {overlap_hint})",
                 line(j),
                 line(i)
             ),
             EngineError::OutsideBox { first, count } => format!(
-                "{path}:{}: this disc is not inside the box ({count} such disc(s) in all; --allow-overlaps moves them in)",
+                "{path}:{}: this disc is not inside the box ({count} such disc(s) in all; {outside_hint})",
                 line(first)
             ),
             EngineError::BadDisc { index, what } => format!("{path}:{}: {what}", line(index)),

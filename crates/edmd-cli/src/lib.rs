@@ -59,12 +59,23 @@ pub fn exit_with(program: &str, result: anyhow::Result<()>) -> ExitCode {
             ExitCode::SUCCESS
         }
         Err(e) => {
-            let user = e.downcast_ref::<UserError>().is_some();
+            let user = is_user_error(&e);
             let msg = format!("{e:#}").replace('\n', " ");
             eprintln!("{program}: error: {msg}");
             ExitCode::from(if user { 2 } else { 1 })
         }
     }
+}
+
+/// True when the error, or an I/O error in its chain, is a [`UserError`] (write errors on output
+/// files carry one, naming the file).
+pub fn is_user_error(e: &anyhow::Error) -> bool {
+    e.chain().any(|c| {
+        c.downcast_ref::<UserError>().is_some()
+            || c.downcast_ref::<std::io::Error>()
+                .and_then(|io| io.get_ref())
+                .is_some_and(|inner| inner.downcast_ref::<UserError>().is_some())
+    })
 }
 
 /// Parses command-line arguments with clap; usage errors become one line and exit status 2,

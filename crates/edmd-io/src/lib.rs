@@ -48,7 +48,10 @@ pub enum Format {
 /// course format, anything else the Princeton format (whose reader then says what is wrong
 /// with a malformed line). `None` if the file has fewer than two non-blank lines.
 pub fn detect(text: &str) -> Option<Format> {
-    let mut lines = text.lines().filter(|l| !l.trim().is_empty());
+    // Blank lines and `#` comments (allowed anywhere, also before N) say nothing of the format.
+    let mut lines = text
+        .lines()
+        .filter(|l| !l.trim().is_empty() && !l.trim_start().starts_with('#'));
     lines.next()?;
     match lines.next()?.split_whitespace().count() {
         1 => Some(Format::Course),

@@ -118,10 +118,25 @@ pub fn parse(text: &str, order: ColumnOrder) -> Result<LoadedSystem, ParseError>
 fn directives(list: &[(usize, Vec<&str>)]) -> Result<(SimBox, Vec<Barrier>), ParseError> {
     let mut sim_box = SimBox::unit();
     let mut barriers = Vec::new();
+    // The line of the first `box` and `boundary` directive: a second one is refused rather than
+    // silently replacing the first.
+    let mut seen_box: Option<usize> = None;
+    let mut seen_boundary: Option<usize> = None;
     for (line, w) in list {
         let line = *line;
+        let once = |seen: &mut Option<usize>, what: &str| match *seen {
+            Some(first) => Err(err(
+                line,
+                format!("a second '# edmd {what}' line (the first is line {first}); give it once"),
+            )),
+            None => {
+                *seen = Some(line);
+                Ok(())
+            }
+        };
         match w.first().copied() {
             Some("box") => {
+                once(&mut seen_box, "box")?;
                 let l = crate::text::numbers(line, &w[1..], &["LX", "LY"])?;
                 if l.iter().any(|&x| x <= 0.0) {
                     return Err(err(line, "box lengths must be > 0"));
@@ -129,6 +144,7 @@ fn directives(list: &[(usize, Vec<&str>)]) -> Result<(SimBox, Vec<Barrier>), Par
                 sim_box.lengths = [l[0], l[1]];
             }
             Some("boundary") => {
+                once(&mut seen_boundary, "boundary")?;
                 let kind = |s: &str| match s {
                     "walls" => Ok(Boundary::Walls),
                     "periodic" => Ok(Boundary::Periodic),
@@ -357,6 +373,16 @@ mod tests {
             ("0\n# edmd box 1\n", 2, "expected 2 numbers"),
             ("0\n# edmd box 1 -1\n", 2, "must be > 0"),
             ("0\n# edmd boundary round\n", 2, "'walls' or 'periodic'"),
+            (
+                "0\n# edmd box 2 2\n# edmd box 3 3\n",
+                3,
+                "a second '# edmd box' line (the first is line 2)",
+            ),
+            (
+                "0\n# edmd boundary walls\n# edmd boundary periodic\n",
+                3,
+                "a second '# edmd boundary' line",
+            ),
             ("0\n# edmd barrier z 1\n", 2, "expected 'barrier"),
             ("0\n# edmd barrier x 0.5 door 1\n", 2, "expected 'barrier"),
             ("0\n# edmd teleport\n", 2, "unknown edmd directive"),

@@ -47,11 +47,21 @@ pub fn run(args: &BenchArgs) -> Result<()> {
         BoundaryArg::Periodic => Boundary::Periodic,
         BoundaryArg::Walls => Boundary::Walls,
     };
+    use crate::commands::experiment::common::{check_count, check_n, check_packings};
+    check_n("bench", args.n, 2)?;
+    check_packings(
+        "bench",
+        &[args.packing],
+        edmd_core::setup::lattice::CLOSE_PACKING,
+    )?;
+    check_count("bench", "melt", args.melt, 0, 100_000)?;
+    check_count("bench", "collisions", args.collisions, 1, 100_000)?;
     let (discs, sim_box) = match lattice_fluid(args.n, args.packing, boundary, args.seed) {
         Ok(x) => x,
         Err(e) => return user_error(format!("bench: {e}")),
     };
-    let mut sim = Simulation::new(&discs, sim_box, Options::default())?;
+    let mut sim = Simulation::new(&discs, sim_box, Options::default())
+        .or_else(|e| user_error(format!("bench: {e}")))?;
     drop(discs);
     let v3 = sim.set_portable_loop(args.portable);
     let e0 = sim.kinetic_energy();

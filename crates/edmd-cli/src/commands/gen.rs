@@ -28,7 +28,7 @@ pub struct GenArgs {
     #[arg(long, short, value_name = "FILE")]
     pub output: String,
     /// Random seed: the same seed gives the same file.
-    #[arg(long, default_value_t = 1)]
+    #[arg(long, default_value_t = 1, allow_negative_numbers = true)]
     pub seed: u64,
     /// Write the course format instead of the Princeton format (equal discs in a walled box).
     #[arg(long)]
@@ -90,6 +90,7 @@ pub fn run(args: &GenArgs) -> Result<()> {
         ));
     };
     apply(&mut kind, args)?;
+    check_cost(&kind)?;
     let system =
         generate(&kind, args.seed).or_else(|e| user_error(format!("gen {}: {e}", args.kind)))?;
     let format = if args.course {
@@ -129,6 +130,39 @@ pub fn run(args: &GenArgs) -> Result<()> {
             args.kind,
             args.output
         );
+    }
+    Ok(())
+}
+
+/// Refuses parameters whose generation would not end in reasonable time or memory (the
+/// generators themselves accept them): too many discs, a packing fraction so low that melting
+/// by collisions takes hours, a dense packing of a single disc (which never collides, so the
+/// compression never ends).
+fn check_cost(kind: &GenKind) -> Result<()> {
+    use crate::commands::experiment::common::{MAX_N, MIN_PACKING};
+    let name = kind.name();
+    let (n, packing, min_n) = match kind {
+        GenKind::OneRed(k) => (k.n, None, 1),
+        GenKind::Lattice(k) => (k.n, None, 1),
+        GenKind::Diffusion1(k) => (k.n, None, 1),
+        GenKind::Diffusion2(k) => (k.n, None, 1),
+        GenKind::Dense(k) => (k.n, Some(k.packing), 2),
+        GenKind::Brownian(k) => (k.n, None, 1),
+        GenKind::Fluid(k) => (k.n, Some(k.packing), 1),
+        GenKind::Mixture(k) => (k.n, Some(k.packing), 1),
+        _ => return Ok(()),
+    };
+    if !(min_n..=MAX_N).contains(&n) {
+        return user_error(format!(
+            "gen {name}: --n must be from {min_n} to {MAX_N}, found {n}"
+        ));
+    }
+    if let Some(p) = packing {
+        if p.is_finite() && p < MIN_PACKING {
+            return user_error(format!(
+                "gen {name}: packing fraction {p:?} is below {MIN_PACKING}, the lowest this generator accepts"
+            ));
+        }
     }
     Ok(())
 }

@@ -30,6 +30,24 @@ pub enum Measure {
     Species,
 }
 
+impl Measure {
+    /// The CSV files this measurement writes into the measurement folder.
+    pub fn files(self) -> &'static [&'static str] {
+        match self {
+            Measure::Temperature => &["temperature.csv"],
+            Measure::Pressure => &["pressure.csv"],
+            Measure::Collisions => &[
+                "collision_frequency.csv",
+                "free_paths.csv",
+                "free_times.csv",
+            ],
+            Measure::Speeds => &["speeds.csv"],
+            Measure::Msd => &["msd.csv"],
+            Measure::Species => &["species.csv"],
+        }
+    }
+}
+
 /// The attached measurements.
 pub struct Measurements {
     temperature: Option<Temperature>,

@@ -12,7 +12,7 @@ use edmd_core::{CollisionCounter, CollisionRule, Options, OverlapPolicy};
 use edmd_io::Format;
 
 use crate::args::parse_time;
-use crate::input::{build, load, read_text};
+use crate::input::{build_with_hint, load, read_text};
 
 /// The course program: simulate N equal discs in a box up to time T.
 #[derive(Debug, Parser)]
@@ -29,7 +29,7 @@ pub struct ParticlesArgs {
 pub fn run(args: &ParticlesArgs, out: &mut impl Write) -> Result<()> {
     let text = read_text(&args.file)?;
     let sys = load(&args.file, &text, Some(Format::Course), Default::default())?;
-    let mut sim = build(
+    let mut sim = build_with_hint(
         &args.file,
         &sys,
         Options {
@@ -37,6 +37,7 @@ pub fn run(args: &ParticlesArgs, out: &mut impl Write) -> Result<()> {
             overlaps: OverlapPolicy::Refuse,
             multi: None,
         },
+        false,
     )?;
     let mut counter = CollisionCounter::new(sim.len());
     sim.run_until(args.end_time, &mut counter);

@@ -4,7 +4,10 @@
 //! `k * time_scale / fps` for `k = 0, 1, ...` up to `--until` (the event loop runs between
 //! frames, so motion is exact in every frame). The output kind follows `OUT`: `*.gif` an
 //! animated GIF, `*.mp4` an H.264 video made by piping raw frames to `ffmpeg` (which must be
-//! installed), and anything else a folder of numbered PNG files.
+//! installed), and a folder of numbered PNG files when `OUT` ends with `/` or has no extension
+//! and is a new or an empty folder. Anything else (`out.png`, a folder with files in it) is
+//! refused. Frames are written to a temporary file or folder and moved into place at the end,
+//! so an error or a signal leaves nothing behind.
 
 use std::io::{IsTerminal, Write};
 use std::path::{Path, PathBuf};
@@ -36,17 +39,18 @@ pub enum ColourArg {
 pub struct RenderArgs {
     /// Input file (Princeton or course format; `-` for standard input).
     pub file: String,
-    /// Output: `NAME.gif`, `NAME.mp4` (needs ffmpeg), or a folder for numbered PNG frames.
+    /// Output: `NAME.gif`, `NAME.mp4` (needs ffmpeg), or a folder for numbered PNG frames (a
+    /// path ending with `/`, or without an extension, that is new or an empty folder).
     #[arg(long, short, value_name = "OUT")]
     pub output: PathBuf,
     /// Simulated time of the last frame.
     #[arg(long, value_name = "T", value_parser = parse_time, allow_negative_numbers = true)]
     pub until: f64,
     /// Frames per second of the video.
-    #[arg(long, value_parser = parse_positive, default_value_t = 25.0)]
+    #[arg(long, value_parser = parse_positive, default_value_t = 25.0, allow_negative_numbers = true)]
     pub fps: f64,
     /// Simulated time per second of video.
-    #[arg(long, value_parser = parse_positive, default_value_t = 1.0)]
+    #[arg(long, value_parser = parse_positive, default_value_t = 1.0, allow_negative_numbers = true)]
     pub time_scale: f64,
     /// Frame size in pixels, WIDTHxHEIGHT.
     #[arg(long, default_value = "480x480", value_parser = parse_size)]
@@ -73,20 +77,137 @@ pub fn parse_size(s: &str) -> Result<(u32, u32), String> {
     Ok((w, h))
 }
 
+/// The most frames one render may make.
+pub const MAX_FRAMES: f64 = 100_000.0;
+
 enum Sink {
-    Gif(
-        gif::Encoder<std::io::BufWriter<std::fs::File>>,
-        AtomicFileHolder,
-    ),
-    Png(PathBuf),
-    Ffmpeg(std::process::Child, PathBuf),
+    Gif(gif::Encoder<AtomicFile>),
+    Png(FrameDir),
+    Ffmpeg(FfmpegChild, AtomicFile),
 }
 
-/// Keeps the GIF's temporary file alive until it is committed.
-struct AtomicFileHolder(AtomicFile);
+/// ffmpeg, killed if the render fails.
+struct FfmpegChild(std::process::Child);
+
+impl Drop for FfmpegChild {
+    fn drop(&mut self) {
+        let _ = self.0.kill();
+        let _ = self.0.wait();
+    }
+}
+
+/// A folder of PNG frames: written into a temporary folder inside it and moved up on
+/// [`FrameDir::commit`]; dropped without commit, the temporary folder goes (and the folder too
+/// when this render created it).
+struct FrameDir {
+    out: PathBuf,
+    tmp: PathBuf,
+    created: bool,
+    done: bool,
+}
+
+impl FrameDir {
+    fn create(out: &Path) -> Result<Self> {
+        let fail = |e: std::io::Error| {
+            crate::UserError(format!(
+                "{}: cannot create the frame folder: {e}",
+                out.display()
+            ))
+        };
+        let created = match std::fs::read_dir(out) {
+            Ok(mut entries) => {
+                if entries.next().is_some() {
+                    return user_error(format!(
+                        "{}: the frame folder is not empty (give a new or an empty folder, or a .gif or .mp4 file)",
+                        out.display()
+                    ));
+                }
+                false
+            }
+            Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
+                std::fs::create_dir_all(out).map_err(fail)?;
+                true
+            }
+            Err(e) => return Err(fail(e).into()),
+        };
+        let tmp = out.join(format!(".edmd-{}.tmp", std::process::id()));
+        crate::output::register_temporary(if created { out } else { &tmp });
+        let dir = FrameDir {
+            out: out.to_path_buf(),
+            tmp,
+            created,
+            done: false,
+        };
+        std::fs::create_dir(&dir.tmp).map_err(fail)?;
+        Ok(dir)
+    }
+
+    fn commit(mut self) -> Result<()> {
+        for entry in std::fs::read_dir(&self.tmp)? {
+            let entry = entry?;
+            std::fs::rename(entry.path(), self.out.join(entry.file_name())).map_err(|e| {
+                crate::UserError(format!(
+                    "{}: cannot move a frame into place: {e}",
+                    self.out.display()
+                ))
+            })?;
+        }
+        std::fs::remove_dir(&self.tmp)?;
+        self.done = true;
+        crate::output::unregister_temporary(if self.created { &self.out } else { &self.tmp });
+        Ok(())
+    }
+}
+
+impl Drop for FrameDir {
+    fn drop(&mut self) {
+        if !self.done {
+            let _ = std::fs::remove_dir_all(&self.tmp);
+            if self.created {
+                let _ = std::fs::remove_dir_all(&self.out);
+            }
+            crate::output::unregister_temporary(if self.created { &self.out } else { &self.tmp });
+        }
+    }
+}
+
+/// What `-o` asks for.
+enum OutKind {
+    Gif,
+    Mp4,
+    Frames,
+}
+
+fn out_kind(out: &Path) -> Result<OutKind> {
+    let text = out.to_string_lossy();
+    let ext = out
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase);
+    let folder = text.ends_with('/') || out.is_dir();
+    match ext.as_deref() {
+        Some("gif") if !folder => Ok(OutKind::Gif),
+        Some("mp4") if !folder => Ok(OutKind::Mp4),
+        Some(e) if !folder => user_error(format!(
+            "{}: cannot write '.{e}': give NAME.gif, NAME.mp4, or a folder for PNG frames (ending with '/')",
+            out.display()
+        )),
+        _ => Ok(OutKind::Frames),
+    }
+}
 
 /// Runs `edmd render`.
 pub fn run(args: &RenderArgs) -> Result<()> {
+    let kind = out_kind(&args.output)?;
+    crate::output::check_distinct(
+        &[("the input file", Path::new(&args.file))],
+        &[("--output", &args.output)],
+    )?;
+    let frames = (args.until * args.fps / args.time_scale).floor() + 1.0;
+    if frames.is_nan() || frames > MAX_FRAMES {
+        return user_error(format!("render: {frames:.3e} frames is too many (at most {MAX_FRAMES:.0}): lower --fps or --until, or raise --time-scale"));
+    }
+    let frames = frames as u64;
     let text = read_text(&args.file)?;
     let sys = load(&args.file, &text, None, Default::default())?;
     let overlaps = if args.allow_overlaps {
@@ -103,44 +224,27 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         },
     )?;
     let (w, h) = args.size;
-    let frames = (args.until * args.fps / args.time_scale).floor() as u64 + 1;
-    if frames > 100_000 {
-        return user_error(format!("render: {frames} frames is too many (at most 100000): lower --fps or --until, or raise --time-scale"));
-    }
     let colouring = match args.colour {
         ColourArg::File => Colouring::File,
         ColourArg::Speed => Colouring::Speed,
         ColourArg::Species => Colouring::Species,
     };
-    let ext = args
-        .output
-        .extension()
-        .and_then(|e| e.to_str())
-        .map(str::to_ascii_lowercase);
-    let mut sink = match ext.as_deref() {
-        Some("gif") => {
-            let holder = AtomicFileHolder(AtomicFile::create(&args.output)?);
-            let file =
-                std::fs::File::create(holder.0.temp_path()).context("cannot write the GIF")?;
-            let mut enc = gif::Encoder::new(std::io::BufWriter::new(file), w as u16, h as u16, &[])
-                .context("GIF encoder")?;
+    crate::commands::experiment::common::install_ctrlc();
+    let mut sink = match kind {
+        OutKind::Gif => {
+            let file = AtomicFile::create(&args.output)?;
+            let mut enc =
+                gif::Encoder::new(file, w as u16, h as u16, &[]).context("GIF encoder")?;
             enc.set_repeat(gif::Repeat::Infinite)
                 .context("GIF encoder")?;
-            Sink::Gif(enc, holder)
+            Sink::Gif(enc)
         }
-        Some("mp4") => Sink::Ffmpeg(
-            start_ffmpeg(&args.output, w, h, args.fps)?,
-            args.output.clone(),
-        ),
-        _ => {
-            std::fs::create_dir_all(&args.output).map_err(|e| {
-                crate::UserError(format!(
-                    "{}: cannot create the frame folder: {e}",
-                    args.output.display()
-                ))
-            })?;
-            Sink::Png(args.output.clone())
+        OutKind::Mp4 => {
+            let file = AtomicFile::create(&args.output)?;
+            let path = file.temp_path().unwrap_or(file.target()).to_path_buf();
+            Sink::Ffmpeg(FfmpegChild(start_ffmpeg(&path, w, h, args.fps)?), file)
         }
+        OutKind::Frames => Sink::Png(FrameDir::create(&args.output)?),
     };
     let progress = (std::io::stderr().is_terminal()).then(|| {
         let pb = indicatif::ProgressBar::new(frames);
@@ -154,21 +258,29 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     let mut pixmap = Pixmap::new(w, h).expect("size checked");
     let delay = (100.0 / args.fps).round().max(1.0) as u16;
     for k in 0..frames {
+        if crate::commands::experiment::common::stop_requested() {
+            anyhow::bail!("interrupted at frame {k} of {frames}: nothing written");
+        }
         let t = (k as f64 * args.time_scale / args.fps).min(args.until);
         sim.run_until(t, &mut ());
         draw_into(&Scene::capture(&sim, colouring), &mut pixmap);
         match &mut sink {
-            Sink::Gif(enc, _) => {
+            Sink::Gif(enc) => {
                 let mut px = rgba(&pixmap);
                 let mut frame = gif::Frame::from_rgba_speed(w as u16, h as u16, &mut px, 10);
                 frame.delay = delay;
                 enc.write_frame(&frame).context("writing the GIF")?;
             }
             Sink::Png(dir) => pixmap
-                .save_png(dir.join(format!("frame_{k:06}.png")))
-                .context("writing a PNG frame")?,
+                .save_png(dir.tmp.join(format!("frame_{k:06}.png")))
+                .map_err(|e| {
+                    crate::UserError(format!(
+                        "{}: cannot write a PNG frame: {e}",
+                        dir.out.display()
+                    ))
+                })?,
             Sink::Ffmpeg(child, _) => {
-                let stdin = child.stdin.as_mut().expect("piped");
+                let stdin = child.0.stdin.as_mut().expect("piped");
                 stdin
                     .write_all(&rgba(&pixmap))
                     .context("ffmpeg stopped reading frames")?;
@@ -182,21 +294,24 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         pb.finish_and_clear();
     }
     let out = match sink {
-        Sink::Gif(enc, holder) => {
-            let mut inner = enc.into_inner().context("finishing the GIF")?;
-            inner.flush()?;
-            drop(inner);
-            holder.0.commit_existing()?;
+        Sink::Gif(enc) => {
+            let file = enc.into_inner().context("finishing the GIF")?;
+            file.commit()?;
             args.output.clone()
         }
-        Sink::Png(dir) => dir,
-        Sink::Ffmpeg(mut child, path) => {
-            drop(child.stdin.take());
-            let status = child.wait()?;
+        Sink::Png(dir) => {
+            let out = dir.out.clone();
+            dir.commit()?;
+            out
+        }
+        Sink::Ffmpeg(mut child, file) => {
+            drop(child.0.stdin.take());
+            let status = child.0.wait()?;
             if !status.success() {
-                anyhow::bail!("ffmpeg failed ({status}) writing {}", path.display());
+                anyhow::bail!("ffmpeg failed ({status}) writing {}", args.output.display());
             }
-            path
+            file.commit_existing()?;
+            args.output.clone()
         }
     };
     crate::print_line(&format!(
@@ -223,6 +338,8 @@ fn start_ffmpeg(out: &Path, w: u32, h: u32, fps: f64) -> Result<std::process::Ch
             &fps.to_string(),
             "-i",
             "-",
+            "-f",
+            "mp4",
         ])
         .args([
             "-c:v",

@@ -1,7 +1,7 @@
 //! `edmd run FILE --until T`: simulate a data file and write the final state.
 
 use std::io::{IsTerminal, Write};
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use anyhow::Result;
@@ -16,7 +16,7 @@ use serde::Serialize;
 use crate::args::{ColumnsArg, FormatArg, RuleArg, RunArgs};
 use crate::commands::measurements::Measurements;
 use crate::input::{build, load, read_text};
-use crate::output::AtomicFile;
+use crate::output::{check_distinct, AtomicFile};
 use crate::user_error;
 
 /// The run summary (`--json` prints it as one object).
@@ -54,6 +54,7 @@ pub struct Summary {
 
 /// Runs `edmd run`.
 pub fn run(args: &RunArgs) -> Result<()> {
+    check_options(args)?;
     let text = read_text(&args.file)?;
     let order = match args.columns {
         ColumnsArg::RadiusMass => ColumnOrder::RadiusMass,
@@ -84,13 +85,6 @@ pub fn run(args: &RunArgs) -> Result<()> {
             multi,
         },
     )?;
-    if let (Some(path), Some(_)) = (&args.output, &args.trajectory) {
-        if Path::new(path) == args.trajectory.as_deref().unwrap() {
-            return user_error(format!(
-                "{path}: --output and --trajectory name the same file"
-            ));
-        }
-    }
     // Create outputs before the run so that an unwritable path fails at once, not after it.
     let mut out_file = match args.output.as_deref() {
         Some("-") | None => None,
@@ -221,6 +215,58 @@ pub fn run(args: &RunArgs) -> Result<()> {
         crate::print_line(&text);
     }
     Ok(())
+}
+
+/// The most trajectory frames or measurement samples one run may take.
+pub const MAX_STOPS: f64 = 1e6;
+
+/// Checks the options against each other and every output against the input and the other
+/// outputs, before anything is read or run.
+fn check_options(args: &RunArgs) -> Result<()> {
+    if args.json && args.output.as_deref() == Some("-") {
+        return user_error(
+            "--json and --output - would both write to standard output: write the state to a file, or drop --json",
+        );
+    }
+    if args.trajectory.as_deref() == Some(Path::new("-")) {
+        return user_error("--trajectory -: trajectories are written to a file; give a file name");
+    }
+    if let Some(every) = args.every {
+        if args.until / every > MAX_STOPS {
+            return user_error(format!(
+                "--every {every:?}: {:.3e} trajectory frames to t = {} is too many (at most {MAX_STOPS:.0}): --every must be >= {:e}",
+                args.until / every,
+                args.until,
+                args.until / MAX_STOPS
+            ));
+        }
+    }
+    if let Some(dt) = args.sample_every {
+        if args.until / dt > MAX_STOPS {
+            return user_error(format!(
+                "--sample-every {dt:?}: {:.3e} samples to t = {} is too many (at most {MAX_STOPS:.0}): --sample-every must be >= {:e}",
+                args.until / dt,
+                args.until,
+                args.until / MAX_STOPS
+            ));
+        }
+    }
+    let csvs: Vec<PathBuf> = args
+        .measure
+        .iter()
+        .flat_map(|m| m.files().iter().map(|f| args.measure_dir.join(f)))
+        .collect();
+    let mut outputs: Vec<(&str, &Path)> = Vec::new();
+    if let Some(o) = args.output.as_deref() {
+        outputs.push(("--output", Path::new(o)));
+    }
+    if let Some(t) = &args.trajectory {
+        outputs.push(("--trajectory", t));
+    }
+    for c in &csvs {
+        outputs.push(("a --measure file", c));
+    }
+    check_distinct(&[("the input file", Path::new(&args.file))], &outputs)
 }
 
 fn human(s: &Summary) -> String {

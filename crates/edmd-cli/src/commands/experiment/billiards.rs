@@ -22,16 +22,16 @@ use crate::user_error;
 #[derive(Debug, Args)]
 pub struct BilliardsArgs {
     /// Rows in the rack (5 gives the 15-ball triangle).
-    #[arg(long, default_value_t = 5)]
+    #[arg(long, default_value_t = 5, allow_negative_numbers = true)]
     pub rows: usize,
     /// Gap between neighbouring rack balls, relative to the diameter.
-    #[arg(long, default_value_t = 0.01)]
+    #[arg(long, default_value_t = 0.01, allow_negative_numbers = true)]
     pub gap: f64,
     /// Sideways offset of the cue ball from the rack's axis, in diameters (0: dead centre).
-    #[arg(long, default_value_t = 0.0)]
+    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
     pub offset: f64,
     /// Simulated time after the strike to follow the balls.
-    #[arg(long, default_value_t = 3.0)]
+    #[arg(long, default_value_t = 3.0, allow_negative_numbers = true)]
     pub follow: f64,
     /// Shared options.
     #[command(flatten)]

@@ -21,13 +21,13 @@ use super::common::{
 #[derive(Debug, Args)]
 pub struct BrownianArgs {
     /// Number of small discs.
-    #[arg(long, default_value_t = 1000)]
+    #[arg(long, default_value_t = 1000, allow_negative_numbers = true)]
     pub n: usize,
     /// Simulated time (small discs move about 0.01 per unit time).
-    #[arg(long, default_value_t = 5000.0)]
+    #[arg(long, default_value_t = 5000.0, allow_negative_numbers = true)]
     pub until: f64,
     /// Points recorded on the big disc's path.
-    #[arg(long, default_value_t = 1000)]
+    #[arg(long, default_value_t = 1000, allow_negative_numbers = true)]
     pub samples: usize,
     /// Shared options.
     #[command(flatten)]
@@ -58,6 +58,13 @@ pub struct Summary {
 /// Runs the experiment.
 pub fn run(args: &BrownianArgs) -> Result<()> {
     check_n("brownian", args.n, 1)?;
+    super::common::check_count(
+        "brownian",
+        "samples",
+        args.samples as u64,
+        10,
+        super::common::MAX_SAMPLES as u64,
+    )?;
     if !(args.until.is_finite() && args.until > 0.0) || args.samples < 10 {
         return crate::user_error("brownian: --until must be > 0 and --samples >= 10");
     }

@@ -17,7 +17,7 @@ pub struct CommonArgs {
     #[arg(long, value_name = "DIR", default_value = ".")]
     pub out_dir: PathBuf,
     /// Random seed: the same seed gives the same results.
-    #[arg(long, default_value_t = 1)]
+    #[arg(long, default_value_t = 1, allow_negative_numbers = true)]
     pub seed: u64,
     /// Print the summary as one JSON object on standard output.
     #[arg(long)]
@@ -26,11 +26,13 @@ pub struct CommonArgs {
 
 static STOP: AtomicBool = AtomicBool::new(false);
 
-/// Makes Ctrl-C ask the running experiment to stop; it then writes what it measured so far.
-/// A second Ctrl-C ends the program at once.
+/// Makes Ctrl-C (SIGINT), SIGTERM and SIGHUP ask the running command to stop: an experiment
+/// then writes what it measured so far, `run` and `render` abandon the run and remove their
+/// temporary files. A second signal removes the temporary files and ends the program at once.
 pub fn install_ctrlc() {
     let _ = ctrlc::set_handler(|| {
         if STOP.swap(true, Ordering::SeqCst) {
+            crate::output::remove_temporaries();
             std::process::exit(130);
         }
         eprintln!("\nstopping (Ctrl-C again to quit at once)");
@@ -42,8 +44,17 @@ pub fn stop_requested() -> bool {
     STOP.load(Ordering::SeqCst)
 }
 
+/// The output folder when this run created it (removed again if the experiment fails and
+/// leaves it empty).
+pub static CREATED_DIR: std::sync::Mutex<Option<PathBuf>> = std::sync::Mutex::new(None);
+
 /// Creates the output folder.
 pub fn out_dir(common: &CommonArgs) -> Result<&Path> {
+    if !common.out_dir.exists() {
+        if let Ok(mut c) = CREATED_DIR.lock() {
+            *c = Some(common.out_dir.clone());
+        }
+    }
     std::fs::create_dir_all(&common.out_dir).map_err(|e| {
         crate::UserError(format!(
             "{}: cannot create the output folder: {e}",
@@ -130,7 +141,8 @@ pub fn melted_fluid(
 ) -> Result<(edmd_core::Simulation, f64)> {
     let (discs, bx) = edmd_core::setup::lattice_fluid(n, packing, boundary, seed)
         .or_else(|e| crate::user_error(e.to_string()))?;
-    let mut sim = edmd_core::Simulation::new(&discs, bx, edmd_core::Options::default())?;
+    let mut sim = edmd_core::Simulation::new(&discs, bx, edmd_core::Options::default())
+        .or_else(|e| crate::user_error(e.to_string()))?;
     while sim.stats().disc_disc < melt * n as u64 {
         sim.run_events(10_000, &mut ());
     }
@@ -138,23 +150,45 @@ pub fn melted_fluid(
     Ok((sim, rate))
 }
 
-/// Checks a list of packing fractions.
+/// The lowest packing fraction of a melted fluid: below it, melting by collisions takes hours
+/// (each collision costs some hundreds of cell crossings at 1e-3 already).
+pub const MIN_PACKING: f64 = 1e-3;
+
+/// The most discs a command generates.
+pub const MAX_N: usize = 10_000_000;
+
+/// The most samples (or snapshots) an experiment or run keeps.
+pub const MAX_SAMPLES: usize = 1_000_000;
+
+/// Checks a list of packing fractions: each in `[MIN_PACKING, max)`.
 pub fn check_packings(name: &str, packings: &[f64], max: f64) -> Result<()> {
     if packings.is_empty() {
         return crate::user_error(format!("{name}: give at least one packing fraction"));
     }
-    if let Some(p) = packings.iter().find(|&&p| !(p > 0.0 && p < max)) {
+    if let Some(p) = packings.iter().find(|&&p| !(p >= MIN_PACKING && p < max)) {
         return crate::user_error(format!(
-            "{name}: packing fraction {p} is outside (0, {max})"
+            "{name}: packing fraction {p:?} is outside [{MIN_PACKING}, {max})"
         ));
     }
     Ok(())
 }
 
-/// Checks a disc count.
+/// Checks a disc count: from `min` to [`MAX_N`].
 pub fn check_n(name: &str, n: usize, min: usize) -> Result<()> {
-    if n < min {
-        return crate::user_error(format!("{name}: --n must be at least {min}"));
+    if !(min..=MAX_N).contains(&n) {
+        return crate::user_error(format!(
+            "{name}: --n must be from {min} to {MAX_N}, found {n}"
+        ));
+    }
+    Ok(())
+}
+
+/// Checks a count option (samples, collisions per disc, ...): from `min` to `max`.
+pub fn check_count(name: &str, flag: &str, value: u64, min: u64, max: u64) -> Result<()> {
+    if !(min..=max).contains(&value) {
+        return crate::user_error(format!(
+            "{name}: --{flag} must be from {min} to {max}, found {value}"
+        ));
     }
     Ok(())
 }

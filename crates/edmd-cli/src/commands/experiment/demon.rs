@@ -23,22 +23,22 @@ use super::common::{
 #[derive(Debug, Args)]
 pub struct DemonArgs {
     /// Discs per side.
-    #[arg(long, default_value_t = 200)]
+    #[arg(long, default_value_t = 200, allow_negative_numbers = true)]
     pub n: usize,
     /// Width of the door (the box is 1 x 1).
-    #[arg(long, default_value_t = 0.1)]
+    #[arg(long, default_value_t = 0.1, allow_negative_numbers = true)]
     pub door: f64,
     /// Left-to-right threshold: kinetic energy relative to the mean.
-    #[arg(long, default_value_t = 1.0)]
+    #[arg(long, default_value_t = 1.0, allow_negative_numbers = true)]
     pub fast: f64,
     /// Right-to-left threshold: kinetic energy relative to the mean.
-    #[arg(long, default_value_t = 1.0)]
+    #[arg(long, default_value_t = 1.0, allow_negative_numbers = true)]
     pub slow: f64,
     /// Simulated time (discs move about 0.01 per unit time).
-    #[arg(long, default_value_t = 5000.0)]
+    #[arg(long, default_value_t = 5000.0, allow_negative_numbers = true)]
     pub until: f64,
     /// Samples over the run.
-    #[arg(long, default_value_t = 100)]
+    #[arg(long, default_value_t = 100, allow_negative_numbers = true)]
     pub samples: usize,
     /// Shared options.
     #[command(flatten)]
@@ -104,6 +104,13 @@ fn sides(sim: &Simulation, x0: f64) -> ([f64; 2], [usize; 2]) {
 /// Runs the experiment.
 pub fn run(args: &DemonArgs) -> Result<()> {
     check_n("demon", args.n, 2)?;
+    super::common::check_count(
+        "demon",
+        "samples",
+        args.samples as u64,
+        1,
+        super::common::MAX_SAMPLES as u64,
+    )?;
     if !(args.door > 0.0 && args.door < 1.0) {
         return crate::user_error(format!(
             "demon: --door {} must be between 0 and the box height 1",

@@ -21,13 +21,13 @@ use super::common::{
 #[derive(Debug, Args)]
 pub struct DiffusionArgs {
     /// Discs per side.
-    #[arg(long, default_value_t = 200)]
+    #[arg(long, default_value_t = 200, allow_negative_numbers = true)]
     pub n: usize,
     /// Simulated time (the discs move about 0.01 per unit time in the unit box).
-    #[arg(long, default_value_t = 3000.0)]
+    #[arg(long, default_value_t = 3000.0, allow_negative_numbers = true)]
     pub until: f64,
     /// Samples over the run.
-    #[arg(long, default_value_t = 100)]
+    #[arg(long, default_value_t = 100, allow_negative_numbers = true)]
     pub samples: usize,
     /// Shared options.
     #[command(flatten)]
@@ -60,6 +60,13 @@ pub struct Summary {
 /// Runs the experiment.
 pub fn run(args: &DiffusionArgs) -> Result<()> {
     check_n("diffusion", args.n, 2)?;
+    super::common::check_count(
+        "diffusion",
+        "samples",
+        args.samples as u64,
+        1,
+        super::common::MAX_SAMPLES as u64,
+    )?;
     if !(args.until.is_finite() && args.until > 0.0) || args.samples == 0 {
         return crate::user_error("diffusion: --until must be > 0 and --samples >= 1");
     }

@@ -22,19 +22,19 @@ use super::common::{
 #[derive(Debug, Args)]
 pub struct EosArgs {
     /// Packing fractions, comma-separated (fluid: below 0.70).
-    #[arg(long, value_delimiter = ',', default_values_t = vec![0.05, 0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.65])]
+    #[arg(long, value_delimiter = ',', default_values_t = vec![0.05, 0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.65], allow_negative_numbers = true)]
     pub packing: Vec<f64>,
     /// Number of discs.
-    #[arg(long, default_value_t = 1000)]
+    #[arg(long, default_value_t = 1000, allow_negative_numbers = true)]
     pub n: usize,
     /// Disc-disc collisions per disc to melt before measuring.
-    #[arg(long, default_value_t = 50)]
+    #[arg(long, default_value_t = 50, allow_negative_numbers = true)]
     pub melt: u64,
     /// Disc-disc collisions per disc to measure over.
-    #[arg(long, default_value_t = 200)]
+    #[arg(long, default_value_t = 200, allow_negative_numbers = true)]
     pub measure: u64,
     /// Blocks for the error bar.
-    #[arg(long, default_value_t = 20)]
+    #[arg(long, default_value_t = 20, allow_negative_numbers = true)]
     pub blocks: usize,
     /// Shared options.
     #[command(flatten)]
@@ -79,6 +79,9 @@ pub struct Summary {
 pub fn run(args: &EosArgs) -> Result<()> {
     check_packings("eos", &args.packing, 0.70)?;
     check_n("eos", args.n, 16)?;
+    super::common::check_count("eos", "measure", args.measure, 1, 100_000)?;
+    super::common::check_count("eos", "melt", args.melt, 0, 100_000)?;
+    super::common::check_count("eos", "blocks", args.blocks as u64, 2, 10_000)?;
     if args.blocks < 2 || args.measure == 0 {
         return crate::user_error("eos: --blocks must be >= 2 and --measure >= 1");
     }

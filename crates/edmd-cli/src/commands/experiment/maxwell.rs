@@ -23,16 +23,16 @@ use super::common::{
 #[derive(Debug, Args)]
 pub struct MaxwellArgs {
     /// Number of discs.
-    #[arg(long, default_value_t = 2000)]
+    #[arg(long, default_value_t = 2000, allow_negative_numbers = true)]
     pub n: usize,
     /// Packing fraction.
-    #[arg(long, default_value_t = 0.3)]
+    #[arg(long, default_value_t = 0.3, allow_negative_numbers = true)]
     pub packing: f64,
     /// Snapshots pooled into the histogram.
-    #[arg(long, default_value_t = 10)]
+    #[arg(long, default_value_t = 10, allow_negative_numbers = true)]
     pub snapshots: usize,
     /// Histogram bins.
-    #[arg(long, default_value_t = 40)]
+    #[arg(long, default_value_t = 40, allow_negative_numbers = true)]
     pub bins: usize,
     /// Shared options.
     #[command(flatten)]
@@ -70,6 +70,8 @@ pub struct Summary {
 pub fn run(args: &MaxwellArgs) -> Result<()> {
     check_packings("maxwell", &[args.packing], 0.70)?;
     check_n("maxwell", args.n, 16)?;
+    super::common::check_count("maxwell", "snapshots", args.snapshots as u64, 1, 10_000)?;
+    super::common::check_count("maxwell", "bins", args.bins as u64, 1, 10_000)?;
     if args.snapshots == 0 || args.bins < 2 {
         return crate::user_error("maxwell: --snapshots must be >= 1 and --bins >= 2");
     }

@@ -23,13 +23,13 @@ use super::common::{
 #[derive(Debug, Args)]
 pub struct MfpArgs {
     /// Packing fractions, comma-separated; histograms are drawn for the first.
-    #[arg(long, value_delimiter = ',', default_values_t = vec![0.05, 0.1, 0.2, 0.3, 0.4, 0.5])]
+    #[arg(long, value_delimiter = ',', default_values_t = vec![0.05, 0.1, 0.2, 0.3, 0.4, 0.5], allow_negative_numbers = true)]
     pub packing: Vec<f64>,
     /// Number of discs.
-    #[arg(long, default_value_t = 1000)]
+    #[arg(long, default_value_t = 1000, allow_negative_numbers = true)]
     pub n: usize,
     /// Disc-disc collisions per disc to measure over.
-    #[arg(long, default_value_t = 50)]
+    #[arg(long, default_value_t = 50, allow_negative_numbers = true)]
     pub measure: u64,
     /// Shared options.
     #[command(flatten)]
@@ -77,6 +77,7 @@ pub struct Summary {
 pub fn run(args: &MfpArgs) -> Result<()> {
     check_packings("mfp", &args.packing, 0.70)?;
     check_n("mfp", args.n, 16)?;
+    super::common::check_count("mfp", "measure", args.measure, 1, 100_000)?;
     let dir = out_dir(&args.common)?;
     let progress = Progress::new(args.packing.len() as u64, "mfp");
     let mut results = Vec::new();

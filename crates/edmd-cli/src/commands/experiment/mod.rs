@@ -38,7 +38,7 @@ pub enum Experiment {
 /// Runs an experiment.
 pub fn run(which: &Experiment) -> Result<()> {
     common::install_ctrlc();
-    match which {
+    let result = match which {
         Experiment::Billiards(a) => billiards::run(a),
         Experiment::Brownian(a) => brownian::run(a),
         Experiment::Demon(a) => demon::run(a),
@@ -47,5 +47,12 @@ pub fn run(which: &Experiment) -> Result<()> {
         Experiment::Maxwell(a) => maxwell::run(a),
         Experiment::Mfp(a) => mfp::run(a),
         Experiment::Reversibility(a) => reversibility::run(a),
+    };
+    if result.is_err() {
+        // A failed experiment leaves no empty folder behind (only one this run created).
+        if let Some(dir) = common::CREATED_DIR.lock().ok().and_then(|mut c| c.take()) {
+            let _ = std::fs::remove_dir(dir);
+        }
     }
+    result
 }

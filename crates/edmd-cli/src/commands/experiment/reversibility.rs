@@ -21,13 +21,13 @@ use crate::user_error;
 #[derive(Debug, Args)]
 pub struct ReversibilityArgs {
     /// Number of discs.
-    #[arg(long, default_value_t = 100)]
+    #[arg(long, default_value_t = 100, allow_negative_numbers = true)]
     pub n: usize,
     /// Packing fraction.
-    #[arg(long, default_value_t = 0.3)]
+    #[arg(long, default_value_t = 0.3, allow_negative_numbers = true)]
     pub packing: f64,
     /// Forward run lengths (simulated time), comma-separated.
-    #[arg(long, value_delimiter = ',', default_values_t = vec![0.5, 1.0, 2.0, 3.0, 4.0, 6.0, 8.0, 12.0, 16.0])]
+    #[arg(long, value_delimiter = ',', default_values_t = vec![0.5, 1.0, 2.0, 3.0, 4.0, 6.0, 8.0, 12.0, 16.0], allow_negative_numbers = true)]
     pub times: Vec<f64>,
     /// Shared options.
     #[command(flatten)]

@@ -1,0 +1,639 @@
+//! Regression tests for the defects of the issue tracker, one test per thing that broke. Each
+//! header says what it was.
+
+use std::path::Path;
+use std::process::{Command, Stdio};
+use std::time::Duration;
+
+use crate::support::{run, shared, write};
+
+const P10_LINE: &str = "0.5 0.5 0.01 0 0.05 1 1 2 3";
+
+/// Asserts exit status 2 with one line on standard error containing `expect`, and no panic.
+fn refused_with(out: &std::process::Output, expect: &str) {
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{err}");
+    assert_eq!(err.lines().count(), 1, "{err}");
+    assert!(err.contains(expect), "expected {expect:?} in {err}");
+    assert!(!err.contains("panicked"), "{err}");
+}
+
+/// The names in a folder.
+fn names(dir: &Path) -> Vec<String> {
+    let mut v: Vec<String> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    v.sort();
+    v
+}
+
+fn p10() -> String {
+    shared("algs4/p10.txt").to_string_lossy().into_owned()
+}
+
+/// True when this process may not create files in `/dev`, so that a regression of the device
+/// fix fails with an error instead of replacing a system device by a regular file (as root,
+/// the old code turned `/dev/null` and `/dev/full` into regular files). As root the device
+/// tests print a SKIPPED line and pass: Rust's test harness has no real skip.
+fn devices_safe_to_test(test: &str) -> bool {
+    let probe = Path::new("/dev").join(format!(".edmd-probe-{}", std::process::id()));
+    if std::fs::File::create(&probe).is_ok() {
+        let _ = std::fs::remove_file(&probe);
+        eprintln!("SKIPPED {test}: /dev is writable (root?), and a regression would replace system devices");
+        return false;
+    }
+    true
+}
+
+fn is_char_device(p: &str) -> bool {
+    use std::os::unix::fs::FileTypeExt;
+    std::fs::metadata(p).unwrap().file_type().is_char_device()
+}
+
+// 1. `-o /dev/full` turned /dev/full into a regular file (exit 0): the temporary file was
+// renamed over the device.
+#[test]
+fn output_to_dev_full_is_a_write_error_and_keeps_the_device() {
+    if !Path::new("/dev/full").exists()
+        || !devices_safe_to_test("output_to_dev_full_is_a_write_error_and_keeps_the_device")
+    {
+        return;
+    }
+    let out = run(
+        "edmd",
+        &["run", &p10(), "--until", "1", "-o", "/dev/full"],
+        None,
+    );
+    refused_with(&out, "/dev/full: cannot write");
+    assert!(is_char_device("/dev/full"));
+    let out = run("edmd", &["gen", "single", "-o", "/dev/full"], None);
+    refused_with(&out, "/dev/full: cannot write");
+    assert!(is_char_device("/dev/full"));
+}
+
+// 1. `-o /dev/null` (run and gen) replaced /dev/null by a regular file.
+#[test]
+fn output_to_dev_null_keeps_the_device() {
+    if !devices_safe_to_test("output_to_dev_null_keeps_the_device") {
+        return;
+    }
+    let out = run(
+        "edmd",
+        &["run", &p10(), "--until", "1", "-o", "/dev/null"],
+        None,
+    );
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(is_char_device("/dev/null"));
+    let out = run("edmd", &["gen", "single", "-o", "/dev/null"], None);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(is_char_device("/dev/null"));
+}
+
+// 1. A FIFO given as the output was replaced by a regular file instead of written through.
+#[test]
+fn output_to_a_fifo_is_written_through() {
+    let dir = tempfile::tempdir().unwrap();
+    let fifo = dir.path().join("pipe");
+    let made = Command::new("mkfifo").arg(&fifo).status();
+    if !made.is_ok_and(|s| s.success()) {
+        eprintln!("SKIPPED output_to_a_fifo_is_written_through: mkfifo is not available");
+        return;
+    }
+    let (tx, rx) = std::sync::mpsc::channel();
+    {
+        let fifo = fifo.clone();
+        // Blocks until a writer opens the FIFO; the old code never did (it replaced the FIFO).
+        std::thread::spawn(move || tx.send(std::fs::read_to_string(fifo).unwrap()));
+    }
+    let out = run(
+        "edmd",
+        &["gen", "single", "-o", fifo.to_str().unwrap()],
+        None,
+    );
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let text = rx
+        .recv_timeout(Duration::from_secs(30))
+        .expect("nothing was written into the FIFO");
+    assert!(text.starts_with('1'), "{text:?}");
+    use std::os::unix::fs::FileTypeExt;
+    assert!(std::fs::metadata(&fifo).unwrap().file_type().is_fifo());
+    assert_eq!(names(dir.path()), ["pipe"]);
+}
+
+// 1. A symbolic link given as the output was replaced by a file, its target left untouched.
+#[test]
+fn output_through_a_symlink_writes_the_target_and_keeps_the_link() {
+    let dir = tempfile::tempdir().unwrap();
+    let target = write(&dir, "target.txt", "old\n");
+    let link = dir.path().join("link.txt");
+    std::os::unix::fs::symlink("target.txt", &link).unwrap();
+    let out = run(
+        "edmd",
+        &["run", &p10(), "--until", "1", "-o", link.to_str().unwrap()],
+        None,
+    );
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(std::fs::symlink_metadata(&link)
+        .unwrap()
+        .file_type()
+        .is_symlink());
+    let text = std::fs::read_to_string(&target).unwrap();
+    assert!(text.starts_with("10\n"), "{text}");
+    assert_eq!(names(dir.path()), ["link.txt", "target.txt"]);
+}
+
+// 2. `--trajectory` naming the input file replaced the input.
+#[test]
+fn trajectory_onto_the_input_is_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let f = write(&dir, "in.txt", &format!("1\n{P10_LINE}\n"));
+    let out = run(
+        "edmd",
+        &[
+            "run",
+            &f,
+            "--until",
+            "1",
+            "--trajectory",
+            &f,
+            "--every",
+            "0.5",
+        ],
+        None,
+    );
+    refused_with(&out, "would overwrite the input");
+    assert_eq!(
+        std::fs::read_to_string(&f).unwrap(),
+        format!("1\n{P10_LINE}\n")
+    );
+}
+
+// 2. `-o md/temperature.csv --measure temperature --measure-dir md` had the CSV file overwrite
+// the final state.
+#[test]
+fn output_and_a_measurement_file_of_the_same_name_are_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let md = dir.path().join("md");
+    let out = run(
+        "edmd",
+        &[
+            "run",
+            &p10(),
+            "--until",
+            "1",
+            "-o",
+            md.join("temperature.csv").to_str().unwrap(),
+            "--measure",
+            "temperature",
+            "--measure-dir",
+            md.to_str().unwrap(),
+        ],
+        None,
+    );
+    refused_with(&out, "name the same file");
+    assert!(!md.exists());
+}
+
+// 2. An input inside the measurement folder under a measurement's name was overwritten.
+#[test]
+fn input_named_like_a_measurement_file_is_not_overwritten() {
+    let dir = tempfile::tempdir().unwrap();
+    let f = write(&dir, "speeds.csv", &format!("1\n{P10_LINE}\n"));
+    let out = run(
+        "edmd",
+        &[
+            "run",
+            &f,
+            "--until",
+            "1",
+            "--measure",
+            "speeds",
+            "--measure-dir",
+            dir.path().to_str().unwrap(),
+        ],
+        None,
+    );
+    refused_with(&out, "would overwrite the input");
+    assert_eq!(
+        std::fs::read_to_string(&f).unwrap(),
+        format!("1\n{P10_LINE}\n")
+    );
+}
+
+/// Starts `edmd ARGS` in `dir`, sends it `signal` after `wait`, and returns its exit status.
+fn signalled(dir: &Path, args: &[&str], signal: &str, wait: Duration) -> std::process::ExitStatus {
+    let mut child = Command::new(env!("CARGO_BIN_EXE_edmd"))
+        .args(args)
+        .current_dir(dir)
+        .stdin(Stdio::null())
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .spawn()
+        .unwrap();
+    std::thread::sleep(wait);
+    assert!(
+        child.try_wait().unwrap().is_none(),
+        "the command ended before the signal: make it longer"
+    );
+    let ok = Command::new("kill")
+        .args([signal, &child.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(ok.success());
+    let deadline = std::time::Instant::now() + Duration::from_secs(30);
+    loop {
+        if let Some(s) = child.try_wait().unwrap() {
+            return s;
+        }
+        if std::time::Instant::now() > deadline {
+            let _ = child.kill();
+            panic!("the command did not end within 30 s of {signal}");
+        }
+        std::thread::sleep(Duration::from_millis(50));
+    }
+}
+
+// 3. SIGTERM during `run` left `.out.txt.edmd-PID.tmp` and `.traj.xyz.edmd-PID.tmp`.
+#[test]
+fn sigterm_during_run_leaves_no_temporary_files() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = dir.path().join("in.txt");
+    std::fs::copy(shared("algs4/p2000.txt"), &input).unwrap();
+    let status = signalled(
+        dir.path(),
+        &[
+            "run",
+            "in.txt",
+            "--until",
+            "1e7",
+            "-o",
+            "out.txt",
+            "--trajectory",
+            "traj.xyz",
+            "--every",
+            "100",
+        ],
+        "-TERM",
+        Duration::from_millis(1500),
+    );
+    assert!(!status.success());
+    assert_eq!(names(dir.path()), ["in.txt"]);
+}
+
+// 3. `render` on SIGINT or SIGTERM left its temporary GIF or a folder of partial frames.
+#[test]
+fn signals_during_render_leave_no_partial_output() {
+    for (signal, out) in [
+        ("-TERM", "movie.gif"),
+        ("-INT", "movie.gif"),
+        ("-TERM", "frames/"),
+    ] {
+        let dir = tempfile::tempdir().unwrap();
+        std::fs::copy(shared("algs4/p2000.txt"), dir.path().join("in.txt")).unwrap();
+        let status = signalled(
+            dir.path(),
+            &[
+                "render", "in.txt", "-o", out, "--until", "3000", "--fps", "25",
+            ],
+            signal,
+            Duration::from_millis(1500),
+        );
+        assert!(!status.success(), "{signal} {out}");
+        assert_eq!(names(dir.path()), ["in.txt"], "{signal} {out}");
+    }
+}
+
+// 4. `--until 7.4e17` or `--fps 1e300` overflowed the frame count: "0 frames", a 39-byte GIF,
+// exit 0.
+#[test]
+fn render_frame_count_overflow_is_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let gif = dir.path().join("f.gif");
+    let p = p10();
+    for extra in [["--until", "7.4e17"], ["--fps", "1e300"]] {
+        let mut args = vec!["render", &p, "-o", gif.to_str().unwrap()];
+        args.extend(extra);
+        if extra[0] != "--until" {
+            args.extend(["--until", "1"]);
+        }
+        let out = run("edmd", &args, None);
+        refused_with(&out, "frames is too many");
+        assert!(!gif.exists());
+    }
+}
+
+// 5. `edmd run /dev/zero` grew to 3 GB and `/dev/urandom` kept reading past the first invalid
+// byte.
+#[test]
+fn endless_binary_input_stops_at_the_first_bad_byte() {
+    for (dev, what) in [
+        ("/dev/zero", "/dev/zero:1: not a text file"),
+        ("/dev/urandom", "/dev/urandom:"),
+    ] {
+        if !Path::new(dev).exists() {
+            continue;
+        }
+        let out = run("edmd", &["run", dev, "--until", "1"], None);
+        refused_with(&out, what);
+    }
+}
+
+// 5. A line longer than 64 KiB was read whole, however long.
+#[test]
+fn overlong_line_is_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let f = write(&dir, "long.txt", &format!("1\n{}\n", "1".repeat(70_000)));
+    let out = run("edmd", &["run", &f, "--until", "1"], None);
+    refused_with(&out, "long.txt:2: the line is longer than 64 KiB");
+}
+
+// 5. Options that cost without bound: `--sample-every 1e-9` (2.3 GB), `brownian --samples 1e9`
+// (7.8 GB), `gen dense --n 1`, `--packing 1e-300` in gen, bench and the experiments (never
+// finished), `mfp --measure 0` (NaN CSV files, exit 0).
+#[test]
+fn unbounded_options_are_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path().to_str().unwrap();
+    let f = dir.path().join("x.txt");
+    let fs = f.to_str().unwrap();
+    let p = p10();
+    let cases: &[(&[&str], &str)] = &[
+        (
+            &[
+                "run",
+                &p,
+                "--until",
+                "1",
+                "--measure",
+                "temperature",
+                "--sample-every",
+                "1e-9",
+            ],
+            "--sample-every must be >= 1e-6",
+        ),
+        (
+            &[
+                "run",
+                &p,
+                "--until",
+                "1",
+                "--trajectory",
+                fs,
+                "--every",
+                "1e-9",
+            ],
+            "--every must be >= 1e-6",
+        ),
+        (
+            &[
+                "experiment",
+                "brownian",
+                "--samples",
+                "1000000000",
+                "--out-dir",
+                d,
+            ],
+            "--samples must be from 10 to 1000000",
+        ),
+        (
+            &["gen", "dense", "--n", "1", "-o", fs],
+            "--n must be from 2",
+        ),
+        (
+            &["gen", "fluid", "--packing", "1e-300", "-o", fs],
+            "packing fraction 1e-300 is below 0.001",
+        ),
+        (
+            &["bench", "--n", "100", "--packing", "1e-300"],
+            "packing fraction 1e-300 is outside [0.001,",
+        ),
+        (
+            &["experiment", "eos", "--packing", "1e-300", "--out-dir", d],
+            "outside [0.001,",
+        ),
+        (
+            &["experiment", "mfp", "--packing", "1e-300", "--out-dir", d],
+            "outside [0.001,",
+        ),
+        (
+            &[
+                "experiment",
+                "maxwell",
+                "--packing",
+                "1e-300",
+                "--out-dir",
+                d,
+            ],
+            "outside [0.001,",
+        ),
+        (
+            &["experiment", "mfp", "--measure", "0", "--out-dir", d],
+            "--measure must be from 1",
+        ),
+    ];
+    for (args, expect) in cases {
+        let out = run("edmd", args, None);
+        refused_with(&out, expect);
+    }
+    assert!(!f.exists());
+    assert!(names(dir.path()).is_empty(), "{:?}", names(dir.path()));
+}
+
+// 6. A `#` comment line before N broke format detection.
+#[test]
+fn comment_before_the_count_keeps_the_format() {
+    let dir = tempfile::tempdir().unwrap();
+    let f = write(
+        &dir,
+        "c.txt",
+        "# my comment\n2\n0.25 0.5 0.01 0 0.05 1 1 2 3\n0.75 0.5 -0.01 0 0.05 1 1 2 3\n",
+    );
+    let out = run("edmd", &["run", &f, "--until", "1", "--json"], None);
+    let text = crate::support::ok_stdout(&out);
+    assert!(text.contains("\"format\":\"princeton\""), "{text}");
+}
+
+// 6. Two `# edmd box` lines, or two contradictory `boundary` lines, were silently accepted.
+#[test]
+fn repeated_box_and_boundary_lines_are_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let f = write(
+        &dir,
+        "b.txt",
+        &format!("1\n# edmd box 2 2\n# edmd box 3 3\n{P10_LINE}\n"),
+    );
+    refused_with(
+        &run("edmd", &["run", &f, "--until", "1"], None),
+        "b.txt:3: a second '# edmd box' line",
+    );
+    let f = write(
+        &dir,
+        "c.txt",
+        &format!("1\n# edmd boundary walls\n# edmd boundary periodic\n{P10_LINE}\n"),
+    );
+    refused_with(
+        &run("edmd", &["run", &f, "--until", "1"], None),
+        "c.txt:3: a second '# edmd boundary' line",
+    );
+}
+
+// 6. `--json -o -` mixed the JSON summary and the state on standard output; `--trajectory -`
+// made a file named `-`.
+#[test]
+fn json_with_state_on_stdout_and_trajectory_dash_are_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let p = p10();
+    let out = run(
+        "edmd",
+        &["run", &p, "--until", "1", "--json", "-o", "-"],
+        None,
+    );
+    refused_with(&out, "--json and --output -");
+    assert!(out.stdout.is_empty());
+    let out = Command::new(env!("CARGO_BIN_EXE_edmd"))
+        .args([
+            "run",
+            &p,
+            "--until",
+            "1",
+            "--trajectory",
+            "-",
+            "--every",
+            "0.5",
+        ])
+        .current_dir(dir.path())
+        .output()
+        .unwrap();
+    refused_with(&out, "--trajectory -");
+    assert!(names(dir.path()).is_empty());
+}
+
+// 6. `render -o out.png` made a folder of frames, and `-o /` wrote frames into `/`.
+#[test]
+fn render_output_must_be_gif_mp4_or_a_frame_folder() {
+    let dir = tempfile::tempdir().unwrap();
+    let p = p10();
+    for name in ["out.png", "out.txt", "out.avi"] {
+        let o = dir.path().join(name);
+        let out = run(
+            "edmd",
+            &["render", &p, "-o", o.to_str().unwrap(), "--until", "0.1"],
+            None,
+        );
+        refused_with(&out, "give NAME.gif, NAME.mp4, or a folder");
+    }
+    let out = run("edmd", &["render", &p, "-o", "/", "--until", "0.1"], None);
+    refused_with(&out, "the frame folder is not empty");
+    assert!(names(dir.path()).is_empty());
+    // A new folder given with a slash still works.
+    let frames = dir.path().join("frames/");
+    let out = run(
+        "edmd",
+        &[
+            "render",
+            &p,
+            "-o",
+            frames.to_str().unwrap(),
+            "--until",
+            "0.04",
+            "--fps",
+            "25",
+            "--size",
+            "32x32",
+        ],
+        None,
+    );
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert_eq!(names(&frames), ["frame_000000.png", "frame_000001.png"]);
+}
+
+// 6. Negative option values were taken for flags (`billiards --gap -0.5`, `--sample-every -1`).
+#[test]
+fn negative_option_values_get_the_allowed_range() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path().to_str().unwrap();
+    let out = run(
+        "edmd",
+        &["experiment", "billiards", "--gap", "-0.5", "--out-dir", d],
+        None,
+    );
+    refused_with(&out, "--gap must be in [0, 0.04)");
+    let p = p10();
+    let out = run(
+        "edmd",
+        &[
+            "run",
+            &p,
+            "--until",
+            "1",
+            "--measure",
+            "temperature",
+            "--sample-every",
+            "-1",
+        ],
+        None,
+    );
+    refused_with(&out, "must be > 0, found -1");
+}
+
+// 6. `bench --n 2 --packing 0.5` exited with status 1, not 2.
+#[test]
+fn bench_too_small_a_box_is_a_user_error() {
+    let out = run("edmd", &["bench", "--n", "2", "--packing", "0.5"], None);
+    refused_with(&out, "bench:");
+}
+
+// 6. `particles`' messages suggested `--allow-overlaps`, which it refuses.
+#[test]
+fn particles_does_not_suggest_an_option_it_lacks() {
+    let dir = tempfile::tempdir().unwrap();
+    let f = write(&dir, "o.txt", "2\n0.1\n1 1\n0.5 0.5 0 0\n0.55 0.5 0 0\n");
+    let out = run("particles", &[&f, "1"], None);
+    refused_with(&out, "edmd run --rule swap --allow-overlaps");
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!err.contains("; --allow-overlaps"), "{err}");
+}
+
+// 6. A failed experiment left an empty output folder behind.
+#[test]
+fn failed_experiment_removes_the_folder_it_created() {
+    let dir = tempfile::tempdir().unwrap();
+    let o = dir.path().join("new");
+    let out = run(
+        "edmd",
+        &[
+            "experiment",
+            "brownian",
+            "--n",
+            "20000",
+            "--until",
+            "1",
+            "--out-dir",
+            o.to_str().unwrap(),
+        ],
+        None,
+    );
+    refused_with(&out, "brownian:");
+    assert!(!o.exists());
+}
