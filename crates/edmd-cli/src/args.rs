@@ -115,15 +115,22 @@ pub struct RunArgs {
     #[arg(long, value_name = "DT", value_parser = parse_positive, requires = "trajectory", allow_negative_numbers = true)]
     pub every: Option<f64>,
     /// Attach measurements (comma-separated): temperature, pressure, collisions, speeds, msd,
-    /// species. Their time series go to CSV files in --measure-dir, their summaries into the
+    /// species. Their time series go to CSV files in --out-dir, their summaries into the
     /// run's summary.
     #[arg(long, value_enum, value_delimiter = ',')]
     pub measure: Vec<crate::commands::measurements::Measure>,
     /// Interval between measurement samples (default: a hundredth of --until).
     #[arg(long, value_name = "DT", value_parser = parse_positive, requires = "measure", allow_negative_numbers = true)]
     pub sample_every: Option<f64>,
-    /// Folder for the measurement CSV files.
-    #[arg(long, value_name = "DIR", default_value = ".", requires = "measure")]
+    /// Folder for the measurement CSV files (as in `edmd experiment`; the old spelling
+    /// `--measure-dir` still works).
+    #[arg(
+        long = "out-dir",
+        alias = "measure-dir",
+        value_name = "DIR",
+        default_value = ".",
+        requires = "measure"
+    )]
     pub measure_dir: PathBuf,
     /// Print the summary as one JSON object on standard output.
     #[arg(long)]

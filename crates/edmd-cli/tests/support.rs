@@ -66,3 +66,11 @@ pub fn write(dir: &tempfile::TempDir, name: &str, text: &str) -> String {
     std::fs::write(&p, text).unwrap();
     p.to_string_lossy().into_owned()
 }
+
+/// Says on standard error, past the test harness's capture, that a test did not run its checks.
+/// Rust's test harness has no real skip: the test still counts as passed, so the line is the
+/// only sign.
+pub fn skipped(test: &str, why: &str) {
+    use std::io::Write;
+    let _ = writeln!(std::io::stderr(), "SKIPPED {test}: {why}");
+}

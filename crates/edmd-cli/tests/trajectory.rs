@@ -49,7 +49,10 @@ fn ase_reads_the_trajectory() {
             std::env::var("EDMD_REQUIRE_ASE").is_err(),
             "EDMD_REQUIRE_ASE is set but python3 cannot import ase"
         );
-        eprintln!("ase not installed: skipping (CI runs this)");
+        crate::support::skipped(
+            "ase_reads_the_trajectory",
+            "python3 cannot import ase (pip install ase)",
+        );
         return;
     }
     let dir = tempfile::tempdir().unwrap();
@@ -69,7 +72,7 @@ fn ase_reads_the_trajectory() {
         None,
     ));
     let script = format!(
-        "import ase.io\nf = ase.io.read(r'{}', index=':')\nassert len(f) == 5, len(f)\na = f[-1]\nassert len(a) == 401\nassert abs(a.info['Time'] - 4.0) < 1e-12\nassert a.arrays['radius'][0] == 0.06\nassert (a.positions[:, 0] >= 0).all() and (a.positions[:, 0] <= 1).all()\nassert a.get_velocities().shape == (401, 3)\nprint('ok')",
+        "import ase.io\nf = ase.io.read(r'{}', index=':')\nassert len(f) == 5, len(f)\na = f[-1]\nassert len(a) == 401\nassert abs(a.info['Time'] - 4.0) < 1e-12\nassert a.arrays['radius'][0] == 0.06\nassert (a.positions[:, 0] >= 0).all() and (a.positions[:, 0] <= 1).all()\nimport numpy as np\nv = a.get_velocities()\nassert v.shape == (401, 3)\nassert np.allclose(v, a.arrays['velo'], rtol=1e-12, atol=0), 'velocities'\nassert np.abs(v[:, :2]).max() > 0, 'all velocities zero'\nm = a.get_masses()\nassert np.allclose(m, a.arrays['mass'], rtol=1e-12, atol=0), 'masses'\nassert len(set(m.tolist())) == 2, set(m.tolist())\nprint('ok')",
         t.display()
     );
     let out = std::process::Command::new("python3")

@@ -99,25 +99,33 @@ impl Scene {
     }
 }
 
-/// Blue through white to red for `x` from 0 to 1 (clamped).
+/// The viridis colormap from 0 to 0.9, sampled at equal steps: dark purple, blue, teal, green,
+/// yellow-green. Every colour stays visible on the white background (viridis' last tenth, bright
+/// yellow, would not), and lightness rises steadily, so speeds read the same in grey.
+const SPEED_STOPS: [[f64; 3]; 10] = [
+    [68.0, 1.0, 84.0],
+    [72.0, 40.0, 120.0],
+    [62.0, 74.0, 137.0],
+    [49.0, 104.0, 142.0],
+    [38.0, 130.0, 142.0],
+    [31.0, 158.0, 137.0],
+    [53.0, 183.0, 121.0],
+    [110.0, 206.0, 88.0],
+    [160.0, 218.0, 57.0],
+    [189.0, 223.0, 38.0],
+];
+
+/// The speed colour for `x` from 0 (slow, dark purple) to 1 (fast, yellow-green), clamped: the
+/// viridis colormap up to 0.9 (see [`SPEED_STOPS`]). The old blue-white-red scale drew
+/// mid-speed discs nearly white, invisible on the white background.
 pub fn speed_colour(x: f64) -> [u8; 3] {
-    let x = x.clamp(0.0, 1.0);
-    let lerp = |a: f64, b: f64, t: f64| (a + (b - a) * t).round() as u8;
-    if x < 0.5 {
-        let t = x / 0.5;
-        [
-            lerp(40.0, 230.0, t),
-            lerp(80.0, 230.0, t),
-            lerp(220.0, 230.0, t),
-        ]
-    } else {
-        let t = (x - 0.5) / 0.5;
-        [
-            lerp(230.0, 215.0, t),
-            lerp(230.0, 40.0, t),
-            lerp(230.0, 30.0, t),
-        ]
-    }
+    let x = if x.is_nan() { 0.0 } else { x.clamp(0.0, 1.0) };
+    let f = x * (SPEED_STOPS.len() - 1) as f64;
+    let k = (f.floor() as usize).min(SPEED_STOPS.len() - 2);
+    let t = f - k as f64;
+    let (a, b) = (SPEED_STOPS[k], SPEED_STOPS[k + 1]);
+    let lerp = |c: usize| (a[c] + (b[c] - a[c]) * t).round() as u8;
+    [lerp(0), lerp(1), lerp(2)]
 }
 
 /// Where the box lands in an image: world `(x, y)` (y up) to pixels (y down), and back.
@@ -466,6 +474,17 @@ mod tests {
         assert_eq!(s.colours[1], speed_colour(1.0 / (2.0 * 0.5f64.sqrt())));
         let s = Scene::capture(&sim, Colouring::Species);
         assert_eq!(s.colours, vec![PALETTE[1], PALETTE[2]]);
+    }
+
+    /// Regression: `--colour speed` drew mid-speed discs nearly white on the white background.
+    #[test]
+    fn speed_colours_stay_visible_on_white() {
+        for k in 0..=100 {
+            let [r, g, b] = speed_colour(k as f64 / 100.0);
+            let luma = 0.2126 * r as f64 + 0.7152 * g as f64 + 0.0722 * b as f64;
+            assert!(luma < 215.0, "speed {k}%: ({r}, {g}, {b}) is too light");
+        }
+        assert_ne!(speed_colour(0.0), speed_colour(1.0));
     }
 
     #[test]

@@ -1,8 +1,11 @@
 //! Extended XYZ trajectory frames (the format of ASE and OVITO).
 //!
 //! Each frame is `N`, a comment line with `Lattice="..." Properties=... Time=... pbc="..."`, and
-//! one line per disc: `species x y z vx vy vz radius mass r g b` with `z = 0` (both readers want
-//! three components). Colours are written in `[0, 1]` as OVITO's `Color` property expects.
+//! one line per disc: `species x y z vx vy vz px py pz radius mass mass r g b` with `z = 0` (both
+//! readers want three components). Velocities and masses are written twice, because the two
+//! readers name them differently: OVITO maps `velo` to Velocity and `mass` to Mass, while ASE
+//! takes `momenta` (`m v`) and `masses` (it reads `velo` and `mass` as unnamed extra arrays, and
+//! would otherwise give every disc the mass of hydrogen and zero velocity). Colours are written in `[0, 1]` as OVITO's `Color` property expects.
 //! Species are written as element symbols (`H`, `He`, ... by species number) so that ASE, which
 //! turns species into chemical symbols, reads every file.
 
@@ -25,19 +28,22 @@ pub fn write_frame(
     writeln!(out, "{}", discs.len())?;
     writeln!(
         out,
-        "Lattice=\"{} 0.0 0.0 0.0 {} 0.0 0.0 0.0 1.0\" Properties=species:S:1:pos:R:3:velo:R:3:radius:R:1:mass:R:1:color:R:3 Time={:?} pbc=\"{} {} F\"",
+        "Lattice=\"{} 0.0 0.0 0.0 {} 0.0 0.0 0.0 1.0\" Properties=species:S:1:pos:R:3:velo:R:3:momenta:R:3:radius:R:1:mass:R:1:masses:R:1:color:R:3 Time={:?} pbc=\"{} {} F\"",
         l[0], l[1], time, pbc[0], pbc[1]
     )?;
     for d in discs {
         let s = SYMBOLS[d.species as usize % SYMBOLS.len()];
         writeln!(
             out,
-            "{s} {:?} {:?} 0.0 {:?} {:?} 0.0 {:?} {:?} {:.4} {:.4} {:.4}",
+            "{s} {:?} {:?} 0.0 {:?} {:?} 0.0 {:?} {:?} 0.0 {:?} {:?} {:?} {:.4} {:.4} {:.4}",
             d.pos[0],
             d.pos[1],
             d.vel[0],
             d.vel[1],
+            d.mass * d.vel[0],
+            d.mass * d.vel[1],
             d.radius,
+            d.mass,
             d.mass,
             d.colour[0] as f64 / 255.0,
             d.colour[1] as f64 / 255.0,
@@ -64,7 +70,7 @@ mod tests {
         assert!(lines[1].contains("Time=1.5 pbc=\"T T F\""));
         assert_eq!(
             lines[2],
-            "H 0.5 0.25 0.0 1.0 0.0 0.0 0.1 1.0 0.0000 0.0000 0.0000"
+            "H 0.5 0.25 0.0 1.0 0.0 0.0 1.0 0.0 0.0 0.1 1.0 1.0 0.0000 0.0000 0.0000"
         );
     }
 }

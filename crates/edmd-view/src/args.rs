@@ -16,7 +16,7 @@ use edmd_io::princeton::ColumnOrder;
 pub enum ColourArg {
     /// The file's colours.
     File,
-    /// By speed (blue slow, red fast).
+    /// By speed (viridis: dark purple slow, yellow-green fast).
     Speed,
     /// By species.
     Species,

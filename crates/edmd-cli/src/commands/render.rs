@@ -28,7 +28,7 @@ use crate::user_error;
 pub enum ColourArg {
     /// The file's colours.
     File,
-    /// By speed (blue slow, red fast).
+    /// By speed (viridis: dark purple slow, yellow-green fast).
     Speed,
     /// By species.
     Species,

@@ -30,8 +30,13 @@ pub struct EosArgs {
     /// Disc-disc collisions per disc to melt before measuring.
     #[arg(long, default_value_t = 50, allow_negative_numbers = true)]
     pub melt: u64,
-    /// Disc-disc collisions per disc to measure over.
-    #[arg(long, default_value_t = 200, allow_negative_numbers = true)]
+    /// Disc-disc collisions per disc to measure over (the old spelling `--measure` still works).
+    #[arg(
+        long = "collisions",
+        alias = "measure",
+        default_value_t = 200,
+        allow_negative_numbers = true
+    )]
     pub measure: u64,
     /// Blocks for the error bar.
     #[arg(long, default_value_t = 20, allow_negative_numbers = true)]
@@ -79,11 +84,11 @@ pub struct Summary {
 pub fn run(args: &EosArgs) -> Result<()> {
     check_packings("eos", &args.packing, 0.70)?;
     check_n("eos", args.n, 16)?;
-    super::common::check_count("eos", "measure", args.measure, 1, 100_000)?;
+    super::common::check_count("eos", "collisions", args.measure, 1, 100_000)?;
     super::common::check_count("eos", "melt", args.melt, 0, 100_000)?;
     super::common::check_count("eos", "blocks", args.blocks as u64, 2, 10_000)?;
     if args.blocks < 2 || args.measure == 0 {
-        return crate::user_error("eos: --blocks must be >= 2 and --measure >= 1");
+        return crate::user_error("eos: --blocks must be >= 2 and --collisions >= 1");
     }
     let dir = out_dir(&args.common)?;
     let progress = Progress::new((args.packing.len() * args.blocks) as u64, "eos");
@@ -130,8 +135,9 @@ pub fn run(args: &EosArgs) -> Result<()> {
             .map(|p| vec![p.packing, p.z, p.z_err, p.henderson]),
     )?;
     let top = args.packing.iter().cloned().fold(0.0, f64::max);
-    let curve: Vec<(f64, f64)> = (0..=200)
-        .map(|i| top * i as f64 / 200.0)
+    // Enough points that the steep end of the curve does not show as steps.
+    let curve: Vec<(f64, f64)> = (0..=1000)
+        .map(|i| top * i as f64 / 1000.0)
         .map(|e| (e, henderson(e)))
         .collect();
     let (png, svg) = Figure::new(

@@ -28,8 +28,15 @@ pub struct MfpArgs {
     /// Number of discs.
     #[arg(long, default_value_t = 1000, allow_negative_numbers = true)]
     pub n: usize,
-    /// Disc-disc collisions per disc to measure over.
-    #[arg(long, default_value_t = 50, allow_negative_numbers = true)]
+    /// Disc-disc collisions per disc to measure over (the old spelling `--measure` still works).
+    /// Flights still in progress at the end are not counted, which biases the mean free path
+    /// low by about 1/COLLISIONS: 50 read 1-2.5% low, 500 reads within 0.5% of Enskog.
+    #[arg(
+        long = "collisions",
+        alias = "measure",
+        default_value_t = 500,
+        allow_negative_numbers = true
+    )]
     pub measure: u64,
     /// Shared options.
     #[command(flatten)]
@@ -77,7 +84,7 @@ pub struct Summary {
 pub fn run(args: &MfpArgs) -> Result<()> {
     check_packings("mfp", &args.packing, 0.70)?;
     check_n("mfp", args.n, 16)?;
-    super::common::check_count("mfp", "measure", args.measure, 1, 100_000)?;
+    super::common::check_count("mfp", "collisions", args.measure, 1, 100_000)?;
     let dir = out_dir(&args.common)?;
     let progress = Progress::new(args.packing.len() as u64, "mfp");
     let mut results = Vec::new();
