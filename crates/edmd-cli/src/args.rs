@@ -93,8 +93,10 @@ pub struct RunArgs {
     #[arg(long, value_enum, default_value_t = FormatArg::Auto)]
     pub format: FormatArg,
     /// Column order of radius and mass in the Princeton format.
-    #[arg(long, value_enum, default_value_t = ColumnsArg::RadiusMass)]
-    pub columns: ColumnsArg,
+    /// Princeton files only (default: radius-mass); refused for course files, which have no such
+    /// columns.
+    #[arg(long, value_enum)]
+    pub columns: Option<ColumnsArg>,
     /// Collision rule.
     #[arg(long, value_enum, default_value_t = RuleArg::Elastic)]
     pub rule: RuleArg,

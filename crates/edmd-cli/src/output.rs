@@ -291,3 +291,44 @@ pub fn check_distinct(inputs: &[(&str, &Path)], outputs: &[(&str, &Path)]) -> Re
     }
     Ok(())
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Regression: a failed final rename left its temporary file behind.
+    #[test]
+    fn failed_rename_removes_the_temporary_file() {
+        let dir = tempfile::tempdir().unwrap();
+        let dest = dir.path().join("out.txt");
+        let mut f = AtomicFile::create(&dest).unwrap();
+        f.write_all(b"state\n").unwrap();
+        // A folder appears where the file should go: the rename fails.
+        std::fs::create_dir(&dest).unwrap();
+        std::fs::write(dest.join("keep"), "x").unwrap();
+        let e = f.commit().unwrap_err();
+        assert!(format!("{e}").contains("cannot move into place"), "{e}");
+        let mut left: Vec<String> = std::fs::read_dir(dir.path())
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .collect();
+        left.sort();
+        assert_eq!(left, ["out.txt"]);
+        assert!(TEMPORARIES.lock().unwrap().is_empty());
+    }
+
+    /// Outputs are compared by identity, not spelling.
+    #[test]
+    fn the_same_file_spelled_two_ways_is_caught() {
+        let dir = tempfile::tempdir().unwrap();
+        let a = dir.path().join("a.txt");
+        std::fs::write(&a, "x").unwrap();
+        let b = dir.path().join("sub/../a.txt");
+        std::fs::create_dir(dir.path().join("sub")).unwrap();
+        assert!(check_distinct(&[("in", &a)], &[("out", &b)]).is_err());
+        let n1 = dir.path().join("new.txt");
+        let n2 = dir.path().join("./new.txt");
+        assert!(check_distinct(&[], &[("one", &n1), ("two", &n2)]).is_err());
+        assert!(check_distinct(&[("in", &a)], &[("out", &n1)]).is_ok());
+    }
+}

@@ -714,3 +714,18 @@ fn mfp_default_reads_within_one_percent_of_enskog() {
         assert!((ratio - 1.0).abs() < 0.01, "{r}");
     }
 }
+
+// 6. `--columns` was silently ignored on course files.
+#[test]
+fn columns_on_a_course_file_is_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let f = write(&dir, "c.txt", "1\n0.1\n1 1\n0.5 0.5 0.1 0\n");
+    let out = run(
+        "edmd",
+        &["run", &f, "--until", "1", "--columns", "mass-radius"],
+        None,
+    );
+    refused_with(&out, "--columns applies to the Princeton format");
+    // Without --columns the file runs.
+    crate::support::ok_stdout(&run("edmd", &["run", &f, "--until", "1"], None));
+}

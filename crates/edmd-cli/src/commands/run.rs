@@ -57,8 +57,8 @@ pub fn run(args: &RunArgs) -> Result<()> {
     check_options(args)?;
     let text = read_text(&args.file)?;
     let order = match args.columns {
-        ColumnsArg::RadiusMass => ColumnOrder::RadiusMass,
-        ColumnsArg::MassRadius => ColumnOrder::MassRadius,
+        None | Some(ColumnsArg::RadiusMass) => ColumnOrder::RadiusMass,
+        Some(ColumnsArg::MassRadius) => ColumnOrder::MassRadius,
     };
     let format = match args.format {
         FormatArg::Auto => None,
@@ -66,6 +66,12 @@ pub fn run(args: &RunArgs) -> Result<()> {
         FormatArg::Princeton => Some(Format::Princeton(order)),
     };
     let sys = load(&args.file, &text, format, order)?;
+    if args.columns.is_some() && sys.format == Format::Course {
+        return user_error(format!(
+            "{}: --columns applies to the Princeton format, and this is a course file (N, R, Lx Ly, then x y u v)",
+            args.file
+        ));
+    }
     let rule = match args.rule {
         RuleArg::Elastic => CollisionRule::Elastic,
         RuleArg::Swap => CollisionRule::Swap,
