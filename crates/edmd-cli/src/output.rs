@@ -145,6 +145,11 @@ impl AtomicFile {
         if let Some(w) = self.writer.take() {
             let _ = w.into_parts();
         }
+        self.move_into_place()
+    }
+
+    /// Renames the temporary file (if there is one) onto the destination.
+    fn move_into_place(&mut self) -> Result<()> {
         if let Some(tmp) = &self.tmp {
             std::fs::rename(tmp, &self.dest).map_err(|e| {
                 UserError(format!(
@@ -169,17 +174,7 @@ impl AtomicFile {
             file.sync_all().map_err(|e| write_error(&self.dest, e))?;
         }
         drop(file);
-        if let Some(tmp) = &self.tmp {
-            std::fs::rename(tmp, &self.dest).map_err(|e| {
-                UserError(format!(
-                    "{}: cannot move into place: {e}",
-                    self.dest.display()
-                ))
-            })?;
-            unregister_temporary(tmp);
-            self.tmp = None;
-        }
-        Ok(())
+        self.move_into_place()
     }
 }
 
