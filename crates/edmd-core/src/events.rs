@@ -64,13 +64,13 @@ pub enum BarrierHit {
 
 /// One processed event. The simulation's state has already been updated when observers see it.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct EventRecord {
+pub struct EventRecord<const D: usize = 2> {
     /// Simulation time of the event.
     pub time: f64,
     /// What happened.
     pub kind: EventKind,
     /// Impulse received by disc `i` (for a pair, `j` received its negative); zero for crossings.
-    pub impulse: Vector,
+    pub impulse: Vector<D>,
 }
 
 /// The one event a disc has scheduled (the engine's internal form of [`EventKind`]).

@@ -1,31 +1,40 @@
-//! The dimension and the vector type, written once.
+//! The vector type, written once for every dimension.
 //!
-//! Everything dimension-dependent in the engine loops over [`DIM`], so a 3D build is this
-//! file's `DIM = 3` plus the file formats.
+//! The dimension `D` is a const parameter of [`Vector`] and of every type built on it
+//! (`Disc<D>`, `SimBox<D>`, `Simulation<D>`), so one source compiles to a 2D and a 3D engine,
+//! each monomorphised: a loop over `0..D` unrolls as if the dimension were written out.
+//! The parameter defaults to 2, the dimension edmd started with, so `Vector` alone is a 2D
+//! vector.
 
 use std::ops::{Add, AddAssign, Div, Index, IndexMut, Mul, Neg, Sub, SubAssign};
 
-/// Number of spatial dimensions.
+/// The dimension of the 2D engine (the default of every `D` parameter).
 pub const DIM: usize = 2;
 
-/// A vector in `DIM` dimensions.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct Vector(pub [f64; DIM]);
+/// A vector in `D` dimensions (2 unless said otherwise).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Vector<const D: usize = 2>(pub [f64; D]);
 
-impl Vector {
+impl<const D: usize> Default for Vector<D> {
+    fn default() -> Self {
+        Vector([0.0; D])
+    }
+}
+
+impl<const D: usize> Vector<D> {
     /// The zero vector.
-    pub const ZERO: Vector = Vector([0.0; DIM]);
+    pub const ZERO: Vector<D> = Vector([0.0; D]);
 
     /// A vector from its components.
-    pub const fn new(c: [f64; DIM]) -> Self {
+    pub const fn new(c: [f64; D]) -> Self {
         Vector(c)
     }
 
     /// Dot product.
     #[inline(always)]
-    pub fn dot(self, o: Vector) -> f64 {
+    pub fn dot(self, o: Vector<D>) -> f64 {
         let mut s = 0.0;
-        for a in 0..DIM {
+        for a in 0..D {
             s += self.0[a] * o.0[a];
         }
         s
@@ -39,9 +48,9 @@ impl Vector {
 
     /// `self + v * t`, the straight-line motion used everywhere.
     #[inline(always)]
-    pub fn advanced(self, v: Vector, t: f64) -> Vector {
+    pub fn advanced(self, v: Vector<D>, t: f64) -> Vector<D> {
         let mut r = self;
-        for a in 0..DIM {
+        for a in 0..D {
             r.0[a] += v.0[a] * t;
         }
         r
@@ -53,7 +62,7 @@ impl Vector {
     }
 }
 
-impl Index<usize> for Vector {
+impl<const D: usize> Index<usize> for Vector<D> {
     type Output = f64;
     #[inline(always)]
     fn index(&self, a: usize) -> &f64 {
@@ -61,75 +70,75 @@ impl Index<usize> for Vector {
     }
 }
 
-impl IndexMut<usize> for Vector {
+impl<const D: usize> IndexMut<usize> for Vector<D> {
     #[inline(always)]
     fn index_mut(&mut self, a: usize) -> &mut f64 {
         &mut self.0[a]
     }
 }
 
-impl Add for Vector {
-    type Output = Vector;
+impl<const D: usize> Add for Vector<D> {
+    type Output = Vector<D>;
     #[inline(always)]
-    fn add(mut self, o: Vector) -> Vector {
+    fn add(mut self, o: Vector<D>) -> Vector<D> {
         self += o;
         self
     }
 }
 
-impl AddAssign for Vector {
+impl<const D: usize> AddAssign for Vector<D> {
     #[inline(always)]
-    fn add_assign(&mut self, o: Vector) {
-        for a in 0..DIM {
+    fn add_assign(&mut self, o: Vector<D>) {
+        for a in 0..D {
             self.0[a] += o.0[a];
         }
     }
 }
 
-impl Sub for Vector {
-    type Output = Vector;
+impl<const D: usize> Sub for Vector<D> {
+    type Output = Vector<D>;
     #[inline(always)]
-    fn sub(mut self, o: Vector) -> Vector {
+    fn sub(mut self, o: Vector<D>) -> Vector<D> {
         self -= o;
         self
     }
 }
 
-impl SubAssign for Vector {
+impl<const D: usize> SubAssign for Vector<D> {
     #[inline(always)]
-    fn sub_assign(&mut self, o: Vector) {
-        for a in 0..DIM {
+    fn sub_assign(&mut self, o: Vector<D>) {
+        for a in 0..D {
             self.0[a] -= o.0[a];
         }
     }
 }
 
-impl Mul<f64> for Vector {
-    type Output = Vector;
+impl<const D: usize> Mul<f64> for Vector<D> {
+    type Output = Vector<D>;
     #[inline(always)]
-    fn mul(mut self, s: f64) -> Vector {
-        for a in 0..DIM {
+    fn mul(mut self, s: f64) -> Vector<D> {
+        for a in 0..D {
             self.0[a] *= s;
         }
         self
     }
 }
 
-impl Div<f64> for Vector {
-    type Output = Vector;
+impl<const D: usize> Div<f64> for Vector<D> {
+    type Output = Vector<D>;
     #[inline(always)]
-    fn div(mut self, s: f64) -> Vector {
-        for a in 0..DIM {
+    fn div(mut self, s: f64) -> Vector<D> {
+        for a in 0..D {
             self.0[a] /= s;
         }
         self
     }
 }
 
-impl Neg for Vector {
-    type Output = Vector;
+impl<const D: usize> Neg for Vector<D> {
+    type Output = Vector<D>;
     #[inline(always)]
-    fn neg(self) -> Vector {
+    fn neg(self) -> Vector<D> {
         self * -1.0
     }
 }
@@ -148,4 +157,13 @@ mod tests {
         );
         assert_eq!(-a, Vector::new([-3.0, -4.0]));
     }
+}
+
+/// `a` if `cond`, else `b`, chosen by bit masks. The compiler is free to turn `if cond { a }
+/// else { b }` into a branch, and does in some inlining contexts; where `cond` is a coin toss
+/// (the sign of a velocity component) a mispredicted branch costs more than both operands.
+#[inline(always)]
+pub(crate) fn select(cond: bool, a: f64, b: f64) -> f64 {
+    let mask = (cond as u64).wrapping_neg();
+    f64::from_bits((a.to_bits() & mask) | (b.to_bits() & !mask))
 }

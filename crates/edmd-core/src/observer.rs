@@ -7,40 +7,40 @@ use crate::events::{EventKind, EventRecord};
 use crate::simulation::Simulation;
 
 /// Sees every processed event, after the state has been updated.
-pub trait Observer {
+pub trait Observer<const D: usize = 2> {
     /// Called once per processed event.
-    fn on_event(&mut self, event: &EventRecord, sim: &Simulation);
+    fn on_event(&mut self, event: &EventRecord<D>, sim: &Simulation<D>);
 }
 
-impl Observer for () {
+impl<const D: usize> Observer<D> for () {
     #[inline(always)]
-    fn on_event(&mut self, _: &EventRecord, _: &Simulation) {}
+    fn on_event(&mut self, _: &EventRecord<D>, _: &Simulation<D>) {}
 }
 
-impl<O: Observer + ?Sized> Observer for &mut O {
+impl<const D: usize, O: Observer<D> + ?Sized> Observer<D> for &mut O {
     #[inline(always)]
-    fn on_event(&mut self, e: &EventRecord, s: &Simulation) {
+    fn on_event(&mut self, e: &EventRecord<D>, s: &Simulation<D>) {
         (**self).on_event(e, s)
     }
 }
 
-impl<O: Observer + ?Sized> Observer for Box<O> {
+impl<const D: usize, O: Observer<D> + ?Sized> Observer<D> for Box<O> {
     #[inline(always)]
-    fn on_event(&mut self, e: &EventRecord, s: &Simulation) {
+    fn on_event(&mut self, e: &EventRecord<D>, s: &Simulation<D>) {
         (**self).on_event(e, s)
     }
 }
 
-impl<A: Observer, B: Observer> Observer for (A, B) {
+impl<const D: usize, A: Observer<D>, B: Observer<D>> Observer<D> for (A, B) {
     #[inline(always)]
-    fn on_event(&mut self, e: &EventRecord, s: &Simulation) {
+    fn on_event(&mut self, e: &EventRecord<D>, s: &Simulation<D>) {
         self.0.on_event(e, s);
         self.1.on_event(e, s);
     }
 }
 
-impl<O: Observer> Observer for Vec<O> {
-    fn on_event(&mut self, e: &EventRecord, s: &Simulation) {
+impl<const D: usize, O: Observer<D>> Observer<D> for Vec<O> {
+    fn on_event(&mut self, e: &EventRecord<D>, s: &Simulation<D>) {
         for o in self {
             o.on_event(e, s);
         }
@@ -66,9 +66,9 @@ impl CollisionCounter {
     }
 }
 
-impl Observer for CollisionCounter {
+impl<const D: usize> Observer<D> for CollisionCounter {
     #[inline]
-    fn on_event(&mut self, e: &EventRecord, _: &Simulation) {
+    fn on_event(&mut self, e: &EventRecord<D>, _: &Simulation<D>) {
         match e.kind {
             EventKind::DiscDisc { i, j } => {
                 self.disc[i] += 1;

@@ -2,13 +2,13 @@
 //! doubly linked list of discs per cell.
 //!
 //! Two discs more than one cell apart along any axis cannot touch, so a disc's collision
-//! partners before its next cell crossing are all in the `3^DIM` cells around its own. Cell
+//! partners before its next cell crossing are all in the `3^D` cells around its own. Cell
 //! crossings are events of their own (see [`crate::predict::interval`]). On a periodic axis the
 //! neighbour cells wrap around, carrying the image shift `±L` with them; at least 3 cells are
 //! required there so that the wrapped neighbours are distinct.
 
 use crate::error::Error;
-use crate::math::{Vector, DIM};
+use crate::math::{select, Vector};
 use crate::predict::{interval_exit_or_inf, Side};
 use crate::state::SimBox;
 
@@ -16,42 +16,46 @@ use crate::state::SimBox;
 pub const NONE: u32 = u32::MAX;
 
 /// Cell coordinates of one cell.
-pub type CellCoord = [u32; DIM];
+pub type CellCoord<const D: usize = 2> = [u32; D];
 
 /// The grid and the discs' places in it.
 #[derive(Clone, Debug)]
-pub struct CellGrid {
-    dims: [u32; DIM],
-    width: [f64; DIM],
-    lengths: [f64; DIM],
-    periodic: [bool; DIM],
-    stride: [usize; DIM],
-    offsets: [[i32; DIM]; NEIGHBOURS],
+pub struct CellGrid<const D: usize = 2> {
+    dims: [u32; D],
+    width: [f64; D],
+    lengths: [f64; D],
+    periodic: [bool; D],
+    stride: [usize; D],
+    /// The `3^D` neighbour offsets (the first [`Self::NEIGHBOURS`] of the array).
+    offsets: [[i32; D]; MAX_NEIGHBOURS],
     /// The offsets as linear cell-index differences (valid away from the grid's edges). A
-    /// fixed-size array, so that the scan over them is unrolled: a loop of 9 is a branch the
-    /// predictor misses once a scan.
-    linear_offsets: [isize; NEIGHBOURS],
+    /// fixed-size array scanned over a constant count, so that the scan is unrolled: a loop of
+    /// 9 is a branch the predictor misses once a scan.
+    linear_offsets: [isize; MAX_NEIGHBOURS],
     head: Vec<u32>,
     next: Vec<u32>,
     prev: Vec<u32>,
-    cell: Vec<CellCoord>,
+    cell: Vec<CellCoord<D>>,
 }
 
-impl CellGrid {
+impl<const D: usize> CellGrid<D> {
+    /// Number of cells around a cell, itself included: `3^D`.
+    pub const NEIGHBOURS: usize = neighbours(D);
+
     /// A grid for `n` discs whose largest diameter is `max_diameter`.
     ///
     /// Cells are at least `max_diameter` wide; in a sparse system they are made wider, so that
     /// there are about two cells per disc at most and memory stays O(N).
-    pub fn new(sim_box: &SimBox, n: usize, max_diameter: f64) -> Result<Self, Error> {
+    pub fn new(sim_box: &SimBox<D>, n: usize, max_diameter: f64) -> Result<Self, Error> {
         let volume = sim_box.volume();
-        let sparse_width = (volume / (2.0 * n.max(1) as f64)).powf(1.0 / DIM as f64);
+        let sparse_width = (volume / (2.0 * n.max(1) as f64)).powf(1.0 / D as f64);
         let target = max_diameter.max(sparse_width);
-        let mut dims = [1u32; DIM];
-        let mut width = [0.0; DIM];
-        let mut periodic = [false; DIM];
-        let mut stride = [0usize; DIM];
+        let mut dims = [1u32; D];
+        let mut width = [0.0; D];
+        let mut periodic = [false; D];
+        let mut stride = [0usize; D];
         let mut total = 1usize;
-        for a in 0..DIM {
+        for a in 0..D {
             let l = sim_box.lengths[a];
             periodic[a] = sim_box.is_periodic(a);
             let max_cells = ((l / max_diameter).floor() as u64).clamp(1, u32::MAX as u64 / 4);
@@ -73,9 +77,9 @@ impl CellGrid {
                 .checked_mul(d as usize)
                 .ok_or_else(|| Error::Invalid("too many cells".into()))?;
         }
-        let offsets = neighbour_offsets();
+        let offsets = neighbour_offsets::<D>();
         let linear_offsets =
-            offsets.map(|o| (0..DIM).map(|a| o[a] as isize * stride[a] as isize).sum());
+            offsets.map(|o| (0..D).map(|a| o[a] as isize * stride[a] as isize).sum());
         Ok(CellGrid {
             dims,
             width,
@@ -87,19 +91,19 @@ impl CellGrid {
             head: vec![NONE; total],
             next: vec![NONE; n],
             prev: vec![NONE; n],
-            cell: vec![[0; DIM]; n],
+            cell: vec![[0; D]; n],
         })
     }
 
     /// Number of cells per axis.
-    pub fn dims(&self) -> [u32; DIM] {
+    pub fn dims(&self) -> [u32; D] {
         self.dims
     }
 
     /// Cell coordinates of a position (clamped into the grid).
-    pub fn coord_of(&self, p: Vector) -> CellCoord {
-        let mut c = [0u32; DIM];
-        for a in 0..DIM {
+    pub fn coord_of(&self, p: Vector<D>) -> CellCoord<D> {
+        let mut c = [0u32; D];
+        for a in 0..D {
             let k = (p[a] / self.width[a]).floor();
             c[a] = if k < 0.0 {
                 0
@@ -111,9 +115,9 @@ impl CellGrid {
     }
 
     #[inline(always)]
-    fn linear(&self, c: CellCoord) -> usize {
+    fn linear(&self, c: CellCoord<D>) -> usize {
         let mut k = 0;
-        for a in 0..DIM {
+        for a in 0..D {
             k += c[a] as usize * self.stride[a];
         }
         k
@@ -121,7 +125,7 @@ impl CellGrid {
 
     /// The cell disc `i` is filed in.
     #[inline(always)]
-    pub fn cell_of(&self, i: usize) -> CellCoord {
+    pub fn cell_of(&self, i: usize) -> CellCoord<D> {
         self.cell[i]
     }
 
@@ -136,9 +140,9 @@ impl CellGrid {
     #[inline(always)]
     pub(crate) fn prefetch_heads_around(&self, i: usize) {
         let c = self.cell[i];
-        if (0..DIM).all(|a| c[a] >= 1 && c[a] + 2 <= self.dims[a]) {
+        if (0..D).all(|a| c[a] >= 1 && c[a] + 2 <= self.dims[a]) {
             let base = self.linear(c) as isize;
-            for off in self.linear_offsets {
+            for &off in &self.linear_offsets[..Self::NEIGHBOURS] {
                 crate::hint::prefetch(&self.head[(base + off) as usize]);
             }
         }
@@ -150,16 +154,16 @@ impl CellGrid {
     #[inline(always)]
     pub(crate) fn prefetch_first_around(&self, i: usize, mut f: impl FnMut(u32)) {
         let c = self.cell[i];
-        if (0..DIM).all(|a| c[a] >= 1 && c[a] + 2 <= self.dims[a]) {
+        if (0..D).all(|a| c[a] >= 1 && c[a] + 2 <= self.dims[a]) {
             let base = self.linear(c) as isize;
-            for off in self.linear_offsets {
+            for &off in &self.linear_offsets[..Self::NEIGHBOURS] {
                 f(self.head[(base + off) as usize]);
             }
         }
     }
 
     /// Files disc `i` in cell `c`.
-    pub fn insert(&mut self, i: usize, c: CellCoord) {
+    pub fn insert(&mut self, i: usize, c: CellCoord<D>) {
         let k = self.linear(c);
         let h = self.head[k];
         self.next[i] = h;
@@ -196,23 +200,21 @@ impl CellGrid {
     /// On a walled axis the outermost cells have no outer crossing: the wall comes first.
     /// Computed without branches on the direction of motion (BENCHMARKS.md).
     #[inline(always)]
-    pub fn exit_time(&self, i: usize, p: Vector, v: Vector) -> (f64, usize, bool) {
+    pub fn exit_time(&self, i: usize, p: Vector<D>, v: Vector<D>) -> (f64, usize, bool) {
         let c = self.cell[i];
         let (mut best, mut axis, mut high) = (f64::INFINITY, 0usize, false);
-        for a in 0..DIM {
+        for a in 0..D {
             let walled = !self.periodic[a];
-            let lo = if c[a] == 0 && walled {
-                f64::NEG_INFINITY
-            } else {
-                c[a] as f64 * self.width[a]
-            };
-            let hi = if c[a] + 1 < self.dims[a] {
-                (c[a] + 1) as f64 * self.width[a]
-            } else if walled {
-                f64::INFINITY
-            } else {
-                self.lengths[a]
-            };
+            // Selected by bit masks, not branches: which cell a disc is in is not predictable.
+            let first = c[a] == 0;
+            let last = c[a] + 1 >= self.dims[a];
+            let lo = select(
+                first & walled,
+                f64::NEG_INFINITY,
+                c[a] as f64 * self.width[a],
+            );
+            let edge = select(walled, f64::INFINITY, self.lengths[a]);
+            let hi = select(last, edge, (c[a] + 1) as f64 * self.width[a]);
             let (dt, h) = interval_exit_or_inf(p[a], v[a], lo, hi);
             let earlier = dt < best;
             axis = if earlier { a } else { axis };
@@ -254,11 +256,11 @@ impl CellGrid {
     /// Calls `f(j, shift)` for every disc `j` in the cells around `c` (including `c` itself),
     /// where `shift` is the periodic image offset to add to `j`'s position.
     #[inline(always)]
-    pub fn for_each_near(&self, c: CellCoord, mut f: impl FnMut(usize, Vector)) {
-        if (0..DIM).all(|a| c[a] >= 1 && c[a] + 2 <= self.dims[a]) {
+    pub fn for_each_near(&self, c: CellCoord<D>, mut f: impl FnMut(usize, Vector<D>)) {
+        if (0..D).all(|a| c[a] >= 1 && c[a] + 2 <= self.dims[a]) {
             // Away from the edges: no wrapping, no shift, plain index arithmetic.
             let base = self.linear(c) as isize;
-            for off in self.linear_offsets {
+            for &off in &self.linear_offsets[..Self::NEIGHBOURS] {
                 let mut j = self.head[(base + off) as usize];
                 while j != NONE {
                     f(j as usize, Vector::ZERO);
@@ -267,10 +269,10 @@ impl CellGrid {
             }
             return;
         }
-        'cells: for off in &self.offsets {
+        'cells: for off in &self.offsets[..Self::NEIGHBOURS] {
             let mut k = 0usize;
             let mut shift = Vector::ZERO;
-            for a in 0..DIM {
+            for a in 0..D {
                 let d = self.dims[a] as i64;
                 let mut x = c[a] as i64 + off[a] as i64;
                 if x < 0 || x >= d {
@@ -299,17 +301,27 @@ impl CellGrid {
     pub fn memory_bytes(&self) -> usize {
         self.head.capacity() * 4
             + (self.next.capacity() + self.prev.capacity()) * 4
-            + self.cell.capacity() * std::mem::size_of::<CellCoord>()
+            + self.cell.capacity() * std::mem::size_of::<CellCoord<D>>()
     }
 }
 
-/// Number of cells around a cell, itself included: `3^DIM`.
-pub const NEIGHBOURS: usize = 3usize.pow(DIM as u32);
+/// The most cells around a cell the grid handles: `3^3`.
+pub const MAX_NEIGHBOURS: usize = 27;
 
-/// The `3^DIM` offsets `{-1, 0, 1}^DIM`.
-fn neighbour_offsets() -> [[i32; DIM]; NEIGHBOURS] {
-    let mut out = [[0; DIM]; NEIGHBOURS];
-    for (k, o) in out.iter_mut().enumerate() {
+/// `3^d`, checked to fit [`MAX_NEIGHBOURS`] (at compile time where it is used as a constant).
+const fn neighbours(d: usize) -> usize {
+    let n = 3usize.pow(d as u32);
+    assert!(
+        n <= MAX_NEIGHBOURS,
+        "the cell grid handles at most 3 dimensions"
+    );
+    n
+}
+
+/// The `3^D` offsets `{-1, 0, 1}^D` (then zeros to fill the array).
+fn neighbour_offsets<const D: usize>() -> [[i32; D]; MAX_NEIGHBOURS] {
+    let mut out = [[0; D]; MAX_NEIGHBOURS];
+    for (k, o) in out.iter_mut().enumerate().take(neighbours(D)) {
         let mut r = k;
         for x in o.iter_mut() {
             *x = (r % 3) as i32 - 1;

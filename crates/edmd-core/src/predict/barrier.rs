@@ -7,6 +7,10 @@
 //! comes within `r` of it (the disc-disc kernel with a point at rest and `sigma = r`). A disc
 //! whose face contact would fall inside the door goes into the doorway instead, where only the
 //! edges can stop it.
+//!
+//! Barriers are two-dimensional (a line across a plane box; its door an interval along the
+//! other axis): the kernels take vectors of any dimension so that the one event loop can call
+//! them, but [`crate::Simulation`] refuses barriers in a box of more than two dimensions.
 
 use crate::math::{Vector, DIM};
 use crate::predict::{interval_exit, time_to_contact};
@@ -20,7 +24,7 @@ pub enum Contact {
     Edge(u8),
 }
 
-/// The other axis (2D).
+/// The other axis of the plane (barriers are 2D).
 #[inline(always)]
 pub fn across(axis: usize) -> usize {
     (axis + 1) % DIM
@@ -29,9 +33,9 @@ pub fn across(axis: usize) -> usize {
 /// Time until a disc at `p` moving at `v` with radius `r` touches the barrier (axis `axis`,
 /// position `x0`, door `door`), and where.
 #[inline]
-pub fn time_to_barrier(
-    p: Vector,
-    v: Vector,
+pub fn time_to_barrier<const D: usize>(
+    p: Vector<D>,
+    v: Vector<D>,
     r: f64,
     axis: usize,
     x0: f64,
@@ -73,9 +77,9 @@ pub fn time_to_barrier(
 /// Time until the centre of a disc on the `below` side (`p[axis] < x0` when true) moving at `v`
 /// reaches the barrier plane, if it is then inside the door: the moment a demon decides.
 #[inline]
-pub fn time_to_doorway(
-    p: Vector,
-    v: Vector,
+pub fn time_to_doorway<const D: usize>(
+    p: Vector<D>,
+    v: Vector<D>,
     axis: usize,
     x0: f64,
     door: (f64, f64),

@@ -14,7 +14,7 @@ use crate::math::Vector;
 /// (`Some(0.0)`); a pair that is separating or at rest relative to each other never collides,
 /// which is what stops a pair that has just collided from colliding again.
 #[inline(always)]
-pub fn time_to_contact(dr: Vector, dv: Vector, sigma: f64) -> Option<f64> {
+pub fn time_to_contact<const D: usize>(dr: Vector<D>, dv: Vector<D>, sigma: f64) -> Option<f64> {
     let t = contact_time_or_inf(dr, dv, sigma);
     (t != f64::INFINITY).then_some(t)
 }
@@ -25,7 +25,7 @@ pub fn time_to_contact(dr: Vector, dv: Vector, sigma: f64) -> Option<f64> {
 /// branch predictor cannot learn, so the root is always computed and then selected (measured:
 /// 15% more collisions per second than the branching form, BENCHMARKS.md).
 #[inline(always)]
-pub fn contact_time_or_inf(dr: Vector, dv: Vector, sigma: f64) -> f64 {
+pub fn contact_time_or_inf<const D: usize>(dr: Vector<D>, dv: Vector<D>, sigma: f64) -> f64 {
     let b = dr.dot(dv);
     let c = dr.norm2() - sigma * sigma;
     let a = dv.norm2();

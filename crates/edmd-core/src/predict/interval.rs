@@ -29,7 +29,7 @@ pub fn interval_exit(x: f64, v: f64, lo: f64, hi: f64) -> Option<(f64, Side)> {
 #[inline(always)]
 pub fn interval_exit_or_inf(x: f64, v: f64, lo: f64, hi: f64) -> (f64, bool) {
     let high = v > 0.0;
-    let end = if high { hi } else { lo };
+    let end = [lo, hi][high as usize];
     let dt = ((end - x) / v).max(0.0);
     (if v != 0.0 { dt } else { f64::INFINITY }, high)
 }

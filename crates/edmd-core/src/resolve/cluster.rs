@@ -23,21 +23,21 @@ use crate::math::Vector;
 
 /// One contact of a cluster.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct ClusterContact {
+pub struct ClusterContact<const D: usize = 2> {
     /// First disc (index into the cluster's arrays).
     pub a: usize,
     /// Second disc.
     pub b: usize,
     /// Unit normal from `a` to `b`.
-    pub normal: Vector,
+    pub normal: Vector<D>,
 }
 
 /// Resolves an impulsive multi-contact collision in place. Returns the total impulse along each
 /// contact's normal (received by `b`; `a` receives the negative).
-pub fn resolve_cluster(
-    vel: &mut [Vector],
+pub fn resolve_cluster<const D: usize>(
+    vel: &mut [Vector<D>],
     mass: &[f64],
-    contacts: &[ClusterContact],
+    contacts: &[ClusterContact<D>],
     exponent: f64,
 ) -> Vec<f64> {
     let n = vel.len();
@@ -52,7 +52,7 @@ pub fn resolve_cluster(
         .zip(mass)
         .map(|(v, &m)| 0.5 * m * (*v - v_cm).norm2())
         .sum();
-    let closing = |vel: &[Vector], c: &ClusterContact| -(vel[c.b] - vel[c.a]).dot(c.normal);
+    let closing = |vel: &[Vector<D>], c: &ClusterContact<D>| -(vel[c.b] - vel[c.a]).dot(c.normal);
     let mut delta = vec![0.0; contacts.len()];
     let mut impulse = vec![0.0; contacts.len()];
     // Time scale: the fastest closing speed and lightest reduced mass set how long an impact

@@ -9,7 +9,7 @@ use crate::math::Vector;
 
 /// Impulse on disc `i` for `dr = r_j - r_i`, `dv = v_j - v_i` and masses `mi`, `mj`.
 #[inline(always)]
-pub fn impulse(dr: Vector, dv: Vector, mi: f64, mj: f64) -> Vector {
+pub fn impulse<const D: usize>(dr: Vector<D>, dv: Vector<D>, mi: f64, mj: f64) -> Vector<D> {
     let j = 2.0 * mi * mj * dv.dot(dr) / ((mi + mj) * dr.norm2());
     dr * j
 }

@@ -19,20 +19,27 @@ pub enum CollisionRule {
 
 /// The outcome of a disc-disc collision.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct PairOutcome {
+pub struct PairOutcome<const D: usize = 2> {
     /// New velocity of disc `i`.
-    pub vi: Vector,
+    pub vi: Vector<D>,
     /// New velocity of disc `j`.
-    pub vj: Vector,
+    pub vj: Vector<D>,
     /// Impulse received by disc `i` (disc `j` receives its negative).
-    pub impulse: Vector,
+    pub impulse: Vector<D>,
 }
 
 impl CollisionRule {
     /// Resolves a collision of disc `i` (velocity `vi`, mass `mi`) with disc `j` (`vj`, `mj`) at
     /// contact, `dr = r_j - r_i`.
     #[inline(always)]
-    pub fn resolve(self, dr: Vector, vi: Vector, vj: Vector, mi: f64, mj: f64) -> PairOutcome {
+    pub fn resolve<const D: usize>(
+        self,
+        dr: Vector<D>,
+        vi: Vector<D>,
+        vj: Vector<D>,
+        mi: f64,
+        mj: f64,
+    ) -> PairOutcome<D> {
         match self {
             CollisionRule::Elastic => {
                 let impulse = elastic::impulse(dr, vj - vi, mi, mj);

@@ -8,7 +8,7 @@ use crate::math::Vector;
 
 /// Impulse on disc `i` that turns its velocity `vi` into `vj` (and `vj` into `vi`, masses equal).
 #[inline(always)]
-pub fn impulse(vi: Vector, vj: Vector, mi: f64) -> Vector {
+pub fn impulse<const D: usize>(vi: Vector<D>, vj: Vector<D>, mi: f64) -> Vector<D> {
     (vj - vi) * mi
 }
 

@@ -4,7 +4,7 @@ use crate::math::Vector;
 
 /// Reflects `v` from a wall perpendicular to `axis`; returns the impulse given to the disc.
 #[inline(always)]
-pub fn reflect(v: &mut Vector, axis: usize, mass: f64) -> Vector {
+pub fn reflect<const D: usize>(v: &mut Vector<D>, axis: usize, mass: f64) -> Vector<D> {
     let mut impulse = Vector::ZERO;
     impulse[axis] = -2.0 * mass * v[axis];
     v[axis] = -v[axis];
@@ -14,7 +14,7 @@ pub fn reflect(v: &mut Vector, axis: usize, mass: f64) -> Vector {
 /// Reflects `v` from a surface with unit normal `n` (a door edge seen from the disc); returns
 /// the impulse given to the disc. Only the normal component changes sign.
 #[inline(always)]
-pub fn reflect_normal(v: &mut Vector, n: Vector, mass: f64) -> Vector {
+pub fn reflect_normal<const D: usize>(v: &mut Vector<D>, n: Vector<D>, mass: f64) -> Vector<D> {
     let vn = v.dot(n);
     let dv = n * (-2.0 * vn);
     *v += dv;

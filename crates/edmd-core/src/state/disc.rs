@@ -7,11 +7,11 @@ pub type Colour = [u8; 3];
 
 /// One disc: position, velocity, mass, radius, and labels the engine never looks at.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Disc {
+pub struct Disc<const D: usize = 2> {
     /// Centre position.
-    pub pos: Vector,
+    pub pos: Vector<D>,
     /// Velocity.
-    pub vel: Vector,
+    pub vel: Vector<D>,
     /// Mass, `> 0`.
     pub mass: f64,
     /// Radius, `> 0`.
@@ -22,9 +22,9 @@ pub struct Disc {
     pub species: u16,
 }
 
-impl Disc {
+impl<const D: usize> Disc<D> {
     /// A disc of unit mass, black, species 0.
-    pub fn new(pos: Vector, vel: Vector, radius: f64) -> Self {
+    pub fn new(pos: Vector<D>, vel: Vector<D>, radius: f64) -> Self {
         Disc {
             pos,
             vel,

@@ -10,11 +10,11 @@ pub use sim_box::{Boundary, SimBox};
 
 /// A complete system description: discs, the box, and any internal barriers.
 #[derive(Clone, Debug, PartialEq)]
-pub struct System {
+pub struct System<const D: usize = 2> {
     /// The discs.
-    pub discs: Vec<Disc>,
+    pub discs: Vec<Disc<D>>,
     /// The box.
-    pub sim_box: SimBox,
+    pub sim_box: SimBox<D>,
     /// Internal barriers (walls across the box, possibly with doors).
     pub barriers: Vec<Barrier>,
 }

@@ -1,6 +1,6 @@
 //! The simulation box `[0, L_0] x [0, L_1] x ...`, each axis with its own boundary.
 
-use crate::math::{Vector, DIM};
+use crate::math::Vector;
 
 /// What happens at the two ends of one axis.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -13,33 +13,33 @@ pub enum Boundary {
 
 /// A rectangular box with a boundary kind per axis.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct SimBox {
+pub struct SimBox<const D: usize = 2> {
     /// Edge lengths.
-    pub lengths: [f64; DIM],
+    pub lengths: [f64; D],
     /// Boundary kind per axis.
-    pub boundaries: [Boundary; DIM],
+    pub boundaries: [Boundary; D],
 }
 
-impl SimBox {
+impl<const D: usize> SimBox<D> {
     /// A box with walls on every axis.
-    pub fn walls(lengths: [f64; DIM]) -> Self {
+    pub fn walls(lengths: [f64; D]) -> Self {
         SimBox {
             lengths,
-            boundaries: [Boundary::Walls; DIM],
+            boundaries: [Boundary::Walls; D],
         }
     }
 
     /// A fully periodic box.
-    pub fn periodic(lengths: [f64; DIM]) -> Self {
+    pub fn periodic(lengths: [f64; D]) -> Self {
         SimBox {
             lengths,
-            boundaries: [Boundary::Periodic; DIM],
+            boundaries: [Boundary::Periodic; D],
         }
     }
 
     /// The unit box with walls (the Princeton assignment's container).
     pub fn unit() -> Self {
-        Self::walls([1.0; DIM])
+        Self::walls([1.0; D])
     }
 
     /// Area (volume in 3D).
@@ -53,8 +53,8 @@ impl SimBox {
     }
 
     /// The minimum-image form of a displacement (identity on walled axes).
-    pub fn minimum_image(&self, mut d: Vector) -> Vector {
-        for a in 0..DIM {
+    pub fn minimum_image(&self, mut d: Vector<D>) -> Vector<D> {
+        for a in 0..D {
             if self.is_periodic(a) {
                 let l = self.lengths[a];
                 // Cheap for the usual case of a displacement already within one box length.
@@ -75,8 +75,8 @@ impl SimBox {
     }
 
     /// Maps a position into the primary box `[0, L)` on periodic axes.
-    pub fn wrap(&self, mut p: Vector) -> Vector {
-        for a in 0..DIM {
+    pub fn wrap(&self, mut p: Vector<D>) -> Vector<D> {
+        for a in 0..D {
             if self.is_periodic(a) {
                 let l = self.lengths[a];
                 p[a] -= l * (p[a] / l).floor();

@@ -1,0 +1,441 @@
+//! The simulation: state, cell grid, event queue and the event loop.
+//!
+//! # The flow of an event
+//! 1. The queue's front disc `i` and its one pending event are read. What the next three
+//!    queued discs will need is prefetched (`prefetch_upcoming`).
+//! 2. A disc-disc event whose partner has collided since the prediction (its counter moved on)
+//!    is stale: `i` is predicted again and the loop goes on. Nothing else is ever stale, because
+//!    a disc is predicted again whenever its own velocity changes.
+//! 3. Otherwise the discs involved are advanced to the event time (each disc keeps its own
+//!    clock and is only moved when it takes part in an event), the collision rule or the wall
+//!    reflection or the cell move is applied, and each disc involved is predicted again: walls,
+//!    its cell's exit, and every disc in the `3^D` cells around it, keeping only the earliest.
+//! 4. Observers are shown the event.
+//!
+//! The loop is compiled twice, portable and for x86-64-v3, and the copy is chosen at run time
+//! (`run_loop`); both give bit-identical results.
+//!
+//! # Exactness
+//! Event times are `t_event + dt` with `dt >= 0` from the closed-form kernels, so time never goes
+//! backwards. A pair at contact after a collision is separating, and separating pairs are never
+//! predicted to collide, so a pair cannot collide twice on one contact. A pair found overlapping
+//! (by rounding) and approaching collides at once. Wall collisions put the disc exactly at the
+//! contact position. Overlaps stay within rounding, far below [`OVERLAP_TOLERANCE`].
+//!
+//! # Ties
+//! Events at exactly equal times run in order of the disc whose schedule holds them (lowest
+//! index first). A disc's own candidates tie-break in the order cell crossing, walls (axis
+//! order), then discs in cell-scan order: the first found is kept.
+
+mod barriers;
+mod check;
+mod cluster;
+mod event_loop;
+mod options;
+mod predict;
+
+pub use check::OverlapReport;
+pub use event_loop::x86_64_v3_available;
+pub use options::{MultiContact, Options, OverlapPolicy, Stats, OVERLAP_TOLERANCE};
+
+use crate::cells::CellGrid;
+use crate::error::Error;
+use crate::events::Pending;
+use crate::math::Vector;
+use crate::resolve::CollisionRule;
+use crate::schedule::{CalendarQueue, EventQueue};
+use crate::state::{Barrier, Colour, Disc, SimBox, System};
+use barriers::validate_barriers;
+use check::validate_discs;
+
+/// Everything the event loop reads or writes for one disc, in one 64-byte cache line: its
+/// motion (for predictions against it), its counter (to validate events naming it) and its
+/// pending event (read when it reaches the front of the queue).
+#[derive(Clone, Copy, Debug)]
+#[repr(C, align(64))]
+pub(crate) struct Body<const D: usize> {
+    pos: Vector<D>,
+    vel: Vector<D>,
+    /// The disc's own clock: `pos` is its position at this time.
+    time: f64,
+    radius: f64,
+    /// Velocity changes so far: validates pending events that name this disc as partner.
+    count: u32,
+    /// This disc's one scheduled event.
+    pending: Pending,
+}
+
+impl<const D: usize> Body<D> {
+    #[inline(always)]
+    fn position_at(&self, t: f64) -> Vector<D> {
+        self.pos.advanced(self.vel, t - self.time)
+    }
+
+    #[inline(always)]
+    fn advance_to(&mut self, t: f64) {
+        self.pos = self.position_at(t);
+        self.time = t;
+    }
+}
+
+/// A hard-disc system being simulated.
+#[derive(Clone, Debug)]
+pub struct Simulation<const D: usize = 2> {
+    sim_box: SimBox<D>,
+    rule: CollisionRule,
+    body: Vec<Body<D>>,
+    mass: Vec<f64>,
+    colour: Vec<Colour>,
+    species: Vec<u16>,
+    /// Periodic images crossed per disc, for unwrapped positions.
+    image: Vec<[i32; D]>,
+    queue: CalendarQueue,
+    grid: CellGrid<D>,
+    /// Time of the last processed event: the reference time of predictions.
+    event_time: f64,
+    /// Observation time, `>= event_time`.
+    now: f64,
+    stats: Stats,
+    adjusted: usize,
+    /// Internal walls.
+    barriers: Vec<Barrier>,
+    /// Per disc, bit `k` set when the disc is on the low side of barrier `k` (demon doors
+    /// decide by the side a disc comes from). Empty without barriers.
+    below: Vec<u8>,
+    /// Mean of `m v^2` over the discs, the demon's yardstick (constant: energy is conserved).
+    mean_mv2: f64,
+    multi: Option<MultiContact>,
+    /// The discs of the last multi-disc collision.
+    last_cluster: Vec<usize>,
+    /// Run the event loop compiled for x86-64-v3 (see `run_loop`).
+    v3: bool,
+}
+
+/// "No partner found" in `predict` (disc indices are below `u32::MAX`).
+pub(crate) const NO_PARTNER: u32 = u32::MAX;
+
+/// "No disc" in the list of discs to predict again after an event.
+pub(crate) const NO_DISC: usize = usize::MAX;
+
+/// The most internal barriers a simulation takes.
+pub const MAX_BARRIERS: usize = 8;
+
+impl<const D: usize> Simulation<D> {
+    /// Builds and validates a simulation at time 0.
+    pub fn new(discs: &[Disc<D>], sim_box: SimBox<D>, options: Options) -> Result<Self, Error> {
+        Self::with_barriers(discs, sim_box, &[], options)
+    }
+
+    /// Builds and validates a simulation of a [`System`] (discs, box and barriers) at time 0.
+    pub fn from_system(system: &System<D>, options: Options) -> Result<Self, Error> {
+        Self::with_barriers(&system.discs, system.sim_box, &system.barriers, options)
+    }
+
+    /// Builds and validates a simulation with internal barriers at time 0.
+    pub fn with_barriers(
+        discs: &[Disc<D>],
+        sim_box: SimBox<D>,
+        barriers: &[Barrier],
+        options: Options,
+    ) -> Result<Self, Error> {
+        if discs.len() >= u32::MAX as usize {
+            return Err(Error::Invalid(format!("too many discs ({})", discs.len())));
+        }
+        for a in 0..D {
+            let l = sim_box.lengths[a];
+            if !(l.is_finite() && l > 0.0) {
+                return Err(Error::BadBox { axis: a, length: l });
+            }
+        }
+        validate_discs(discs, &sim_box)?;
+        if let Some(mc) = options.multi {
+            if !(mc.tolerance.is_finite() && mc.tolerance >= 0.0 && mc.tolerance < 0.5) {
+                return Err(Error::Invalid(format!(
+                    "multi-contact tolerance {} is outside [0, 0.5)",
+                    mc.tolerance
+                )));
+            }
+            if !(mc.exponent.is_finite() && (1.0..=3.0).contains(&mc.exponent)) {
+                return Err(Error::Invalid(format!(
+                    "multi-contact exponent {} is outside [1, 3]",
+                    mc.exponent
+                )));
+            }
+            if options.rule != CollisionRule::Elastic {
+                return Err(Error::Invalid(
+                    "multi-disc collisions need the elastic rule".into(),
+                ));
+            }
+        }
+        if options.rule == CollisionRule::Swap {
+            if let Some((k, d)) = discs
+                .iter()
+                .enumerate()
+                .find(|(_, d)| d.mass != discs[0].mass)
+            {
+                return Err(Error::SwapNeedsEqualMasses {
+                    index: k,
+                    mass: d.mass,
+                    mass0: discs[0].mass,
+                });
+            }
+        }
+        let mut adjusted = 0;
+        let mut body = Vec::with_capacity(discs.len());
+        let mut outside = (None, 0usize);
+        for (k, d) in discs.iter().enumerate() {
+            let mut pos = sim_box.wrap(d.pos);
+            let mut moved = false;
+            for a in 0..D {
+                if sim_box.is_periodic(a) {
+                    continue;
+                }
+                let (lo, hi) = (d.radius, sim_box.lengths[a] - d.radius);
+                let tol = OVERLAP_TOLERANCE * d.radius;
+                moved |= pos[a] < lo - tol || pos[a] > hi + tol;
+                pos[a] = pos[a].clamp(lo, hi);
+            }
+            if moved {
+                outside.0.get_or_insert(k);
+                outside.1 += 1;
+            }
+            adjusted += moved as usize;
+            body.push(Body {
+                pos,
+                vel: d.vel,
+                time: 0.0,
+                radius: d.radius,
+                count: 0,
+                pending: Pending::Nothing,
+            });
+        }
+        if let (Some(first), count) = outside {
+            if options.overlaps == OverlapPolicy::Refuse {
+                return Err(Error::OutsideBox { first, count });
+            }
+        }
+        let max_diameter = discs.iter().map(|d| 2.0 * d.radius).fold(0.0, f64::max);
+        let grid = CellGrid::new(
+            &sim_box,
+            discs.len(),
+            if discs.is_empty() { 1.0 } else { max_diameter },
+        )?;
+        let n = discs.len();
+        let mut sim = Simulation {
+            sim_box,
+            rule: options.rule,
+            body,
+            mass: discs.iter().map(|d| d.mass).collect(),
+            colour: discs.iter().map(|d| d.colour).collect(),
+            species: discs.iter().map(|d| d.species).collect(),
+            image: vec![[0; D]; n],
+            queue: CalendarQueue::with_len(n),
+            grid,
+            event_time: 0.0,
+            now: 0.0,
+            stats: Stats::default(),
+            adjusted,
+            barriers: Vec::new(),
+            below: Vec::new(),
+            mean_mv2: 0.0,
+            multi: options.multi,
+            last_cluster: Vec::new(),
+            v3: false,
+        };
+        sim.set_portable_loop(false);
+        validate_barriers(barriers, &sim.sim_box)?;
+        sim.barriers = barriers.to_vec();
+        sim.below = vec![0; if barriers.is_empty() { 0 } else { n }];
+        sim.mean_mv2 = if n > 0 {
+            4.0 * sim.kinetic_energy() / n as f64
+        } else {
+            0.0
+        };
+        sim.file_all_in_grid();
+        if options.overlaps == OverlapPolicy::Refuse {
+            if let Some((disc, barrier)) = sim.barrier_overlap() {
+                return Err(Error::BarrierOverlap { disc, barrier });
+            }
+            let report = sim.overlaps(OVERLAP_TOLERANCE);
+            if let Some((i, j, overlap)) = report.first {
+                return Err(Error::Overlap {
+                    i,
+                    j,
+                    overlap,
+                    count: report.count,
+                });
+            }
+        }
+        sim.schedule_all();
+        Ok(sim)
+    }
+
+    fn file_all_in_grid(&mut self) {
+        self.grid.clear();
+        for i in 0..self.body.len() {
+            let c = self.grid.coord_of(self.body[i].pos);
+            self.grid.insert(i, c);
+        }
+    }
+
+    fn schedule_all(&mut self) {
+        self.queue.begin_bulk();
+        for i in 0..self.body.len() {
+            if !self.below.is_empty() {
+                let p = self.body[i].position_at(self.event_time);
+                self.below[i] = self
+                    .barriers
+                    .iter()
+                    .enumerate()
+                    .fold(0u8, |m, (k, b)| m | (((p[b.axis] < b.position) as u8) << k));
+            }
+            self.predict_outlined(i);
+        }
+        self.queue.end_bulk(self.event_time);
+    }
+
+    /// Number of discs.
+    pub fn len(&self) -> usize {
+        self.body.len()
+    }
+
+    /// True if there are no discs.
+    pub fn is_empty(&self) -> bool {
+        self.body.is_empty()
+    }
+
+    /// The box.
+    pub fn sim_box(&self) -> &SimBox<D> {
+        &self.sim_box
+    }
+
+    /// The collision rule.
+    pub fn rule(&self) -> CollisionRule {
+        self.rule
+    }
+
+    /// Current (observation) time.
+    pub fn time(&self) -> f64 {
+        self.now
+    }
+
+    /// Event counts so far.
+    pub fn stats(&self) -> Stats {
+        self.stats
+    }
+
+    /// How many input discs were moved into the box under [`OverlapPolicy::Allow`].
+    pub fn adjusted_discs(&self) -> usize {
+        self.adjusted
+    }
+
+    /// Cells per axis of the grid.
+    pub fn grid_dims(&self) -> [u32; D] {
+        self.grid.dims()
+    }
+
+    /// Position of disc `i` at the current time (in the primary box on periodic axes).
+    pub fn position(&self, i: usize) -> Vector<D> {
+        self.sim_box.wrap(self.body[i].position_at(self.now))
+    }
+
+    /// Position of disc `i` at the current time, not folded back into the box: the displacement
+    /// since time 0 is `unwrapped_position(i) - initial position`.
+    pub fn unwrapped_position(&self, i: usize) -> Vector<D> {
+        let mut p = self.body[i].position_at(self.now);
+        for a in 0..D {
+            p[a] += self.image[i][a] as f64 * self.sim_box.lengths[a];
+        }
+        p
+    }
+
+    /// Velocity of disc `i`.
+    pub fn velocity(&self, i: usize) -> Vector<D> {
+        self.body[i].vel
+    }
+
+    /// Mass of disc `i`.
+    pub fn mass(&self, i: usize) -> f64 {
+        self.mass[i]
+    }
+
+    /// Radius of disc `i`.
+    pub fn radius(&self, i: usize) -> f64 {
+        self.body[i].radius
+    }
+
+    /// Colour of disc `i`.
+    pub fn colour(&self, i: usize) -> Colour {
+        self.colour[i]
+    }
+
+    /// Species of disc `i`.
+    pub fn species(&self, i: usize) -> u16 {
+        self.species[i]
+    }
+
+    /// Disc `i` as a [`Disc`] at the current time.
+    pub fn disc(&self, i: usize) -> Disc<D> {
+        Disc {
+            pos: self.position(i),
+            vel: self.body[i].vel,
+            mass: self.mass[i],
+            radius: self.body[i].radius,
+            colour: self.colour[i],
+            species: self.species[i],
+        }
+    }
+
+    /// All discs at the current time, in input order.
+    pub fn discs(&self) -> Vec<Disc<D>> {
+        (0..self.len()).map(|i| self.disc(i)).collect()
+    }
+
+    /// Total kinetic energy `sum m v^2 / 2`.
+    pub fn kinetic_energy(&self) -> f64 {
+        self.body
+            .iter()
+            .zip(&self.mass)
+            .map(|(b, m)| 0.5 * m * b.vel.norm2())
+            .sum()
+    }
+
+    /// Total momentum `sum m v`.
+    pub fn momentum(&self) -> Vector<D> {
+        let mut p = Vector::ZERO;
+        for (b, &m) in self.body.iter().zip(&self.mass) {
+            p += b.vel * m;
+        }
+        p
+    }
+
+    /// Reverses every velocity at the current time (time-reversal experiments) and schedules
+    /// everything again.
+    pub fn reverse_velocities(&mut self) {
+        self.modify_velocities(|_, v| -v);
+    }
+
+    /// Replaces every velocity by `f(i, v)` at the current time and schedules everything again.
+    pub fn modify_velocities(&mut self, mut f: impl FnMut(usize, Vector<D>) -> Vector<D>) {
+        let now = self.now;
+        for (i, b) in self.body.iter_mut().enumerate() {
+            b.advance_to(now);
+            b.vel = f(i, b.vel);
+            b.count = b.count.wrapping_add(1);
+        }
+        self.event_time = now;
+        self.schedule_all();
+    }
+
+    /// Bytes held by the simulation's arrays (capacity, not just length).
+    pub fn memory_bytes(&self) -> usize {
+        use std::mem::size_of;
+        self.body.capacity() * size_of::<Body<D>>()
+            + self.mass.capacity() * 8
+            + self.colour.capacity() * size_of::<Colour>()
+            + self.species.capacity() * 2
+            + self.image.capacity() * size_of::<[i32; D]>()
+            + self.queue.memory_bytes()
+            + self.grid.memory_bytes()
+    }
+}

@@ -1,0 +1,122 @@
+//! Prediction: a disc's earliest event (cell exit, walls, barriers, the discs around it).
+
+use crate::events::{Pending, Side};
+use crate::predict::barrier::{time_to_barrier, time_to_doorway, Contact};
+use crate::predict::{contact_time_or_inf, interval_exit};
+use crate::schedule::EventQueue;
+
+use super::{Simulation, NO_PARTNER};
+
+impl<const D: usize> Simulation<D> {
+    /// [`Self::predict`] as a function of its own, for the places off the event loop.
+    #[inline(never)]
+    pub(super) fn predict_outlined(&mut self, i: usize) {
+        self.predict(i);
+    }
+
+    /// The earliest barrier event of disc `i` (advanced to the last event time) if it beats
+    /// `(best_t, best)`.
+    #[inline(never)]
+    pub(super) fn predict_barriers(
+        &self,
+        i: usize,
+        mut best_t: f64,
+        mut best: Pending,
+    ) -> (f64, Pending) {
+        let t0 = self.event_time;
+        let bi = self.body[i];
+        for (k, w) in self.barriers.iter().enumerate() {
+            if let Some((dt, c)) =
+                time_to_barrier(bi.pos, bi.vel, bi.radius, w.axis, w.position, w.door)
+            {
+                if t0 + dt < best_t {
+                    best_t = t0 + dt;
+                    let part = match c {
+                        Contact::Face => 0,
+                        Contact::Edge(e) => 1 + e,
+                    };
+                    best = Pending::Barrier {
+                        index: k as u16,
+                        part,
+                    };
+                }
+            }
+            if let (Some(door), Some(_)) = (w.door, w.demon) {
+                let below = self.below[i] & (1 << k) != 0;
+                if let Some(dt) = time_to_doorway(bi.pos, bi.vel, w.axis, w.position, door, below) {
+                    if t0 + dt < best_t {
+                        best_t = t0 + dt;
+                        best = Pending::Barrier {
+                            index: k as u16,
+                            part: 3,
+                        };
+                    }
+                }
+            }
+        }
+        (best_t, best)
+    }
+
+    /// Finds disc `i`'s earliest event from the last event time on and schedules it.
+    #[inline(always)]
+    pub(super) fn predict(&mut self, i: usize) {
+        let t0 = self.event_time;
+        self.body[i].advance_to(t0);
+        let bi = self.body[i];
+        let mut best_t = f64::INFINITY;
+        let mut best = Pending::Nothing;
+        let (dt, axis, high) = self.grid.exit_time(i, bi.pos, bi.vel);
+        if dt != f64::INFINITY {
+            let side = if high { Side::High } else { Side::Low };
+            best_t = t0 + dt;
+            best = Pending::Cell {
+                axis: axis as u8,
+                side,
+            };
+        }
+        for a in 0..D {
+            if self.sim_box.is_periodic(a) {
+                continue;
+            }
+            if let Some((dt, side)) = interval_exit(
+                bi.pos[a],
+                bi.vel[a],
+                bi.radius,
+                self.sim_box.lengths[a] - bi.radius,
+            ) {
+                if t0 + dt < best_t {
+                    best_t = t0 + dt;
+                    best = Pending::Wall {
+                        axis: a as u8,
+                        side,
+                    };
+                }
+            }
+        }
+        if !self.barriers.is_empty() {
+            (best_t, best) = self.predict_barriers(i, best_t, best);
+        }
+        // The earliest pair is selected without branches: whether a pair beats the best so far
+        // is a coin toss for the branch predictor (BENCHMARKS.md). Strict `<` keeps the first
+        // found on ties.
+        let body = &self.body;
+        let mut partner = NO_PARTNER;
+        self.grid.for_each_near(self.grid.cell_of(i), |j, shift| {
+            let bj = &body[j];
+            let pj = bj.position_at(t0) + shift;
+            let t = t0 + contact_time_or_inf(pj - bi.pos, bj.vel - bi.vel, bi.radius + bj.radius);
+            // Disc `i` itself is at `dr = 0`, which never meets (`b = 0`): no test needed.
+            let keep = ((t < best_t) as u32).wrapping_neg();
+            partner = (j as u32 & keep) | (partner & !keep);
+            best_t = best_t.min(t);
+        });
+        if partner != NO_PARTNER {
+            best = Pending::Disc {
+                partner,
+                seen: self.body[partner as usize].count,
+            };
+        }
+        self.body[i].pending = best;
+        self.queue.set(i, best_t);
+    }
+}
