@@ -143,6 +143,15 @@ impl<const D: usize> Neg for Vector<D> {
     }
 }
 
+/// `a` if `cond`, else `b`, chosen by bit masks. The compiler is free to turn `if cond { a }
+/// else { b }` into a branch, and does in some inlining contexts; where `cond` is a coin toss
+/// (the sign of a velocity component) a mispredicted branch costs more than both operands.
+#[inline(always)]
+pub(crate) fn select(cond: bool, a: f64, b: f64) -> f64 {
+    let mask = (cond as u64).wrapping_neg();
+    f64::from_bits((a.to_bits() & mask) | (b.to_bits() & !mask))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -157,13 +166,4 @@ mod tests {
         );
         assert_eq!(-a, Vector::new([-3.0, -4.0]));
     }
-}
-
-/// `a` if `cond`, else `b`, chosen by bit masks. The compiler is free to turn `if cond { a }
-/// else { b }` into a branch, and does in some inlining contexts; where `cond` is a coin toss
-/// (the sign of a velocity component) a mispredicted branch costs more than both operands.
-#[inline(always)]
-pub(crate) fn select(cond: bool, a: f64, b: f64) -> f64 {
-    let mask = (cond as u64).wrapping_neg();
-    f64::from_bits((a.to_bits() & mask) | (b.to_bits() & !mask))
 }
