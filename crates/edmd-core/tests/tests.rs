@@ -7,3 +7,4 @@ mod generators;
 mod invariants;
 mod naive_reference;
 mod physics;
+mod three_d;

@@ -114,7 +114,12 @@ impl Collisions {
     ///
     /// # Panics
     /// If `bins == 0` or a maximum is not a finite positive number.
-    pub fn new(sim: &Simulation, bins: usize, max_path: f64, max_time: f64) -> Self {
+    pub fn new<const D: usize>(
+        sim: &Simulation<D>,
+        bins: usize,
+        max_path: f64,
+        max_time: f64,
+    ) -> Self {
         Collisions {
             n: sim.len(),
             block_start: sim.time(),
@@ -131,7 +136,7 @@ impl Collisions {
 
     /// Closes the current block at the simulation's current time and starts the next one.
     /// Does nothing if no time has passed since the last call.
-    pub fn sample(&mut self, sim: &Simulation) {
+    pub fn sample<const D: usize>(&mut self, sim: &Simulation<D>) {
         let (start, end) = (self.block_start, sim.time());
         if end <= start {
             return;
@@ -208,7 +213,7 @@ impl Collisions {
     }
 
     /// Ends disc `i`'s free flight (if one was under way) at time `t` and starts the next.
-    fn collided(&mut self, i: usize, t: f64, sim: &Simulation) {
+    fn collided<const D: usize>(&mut self, i: usize, t: f64, sim: &Simulation<D>) {
         if let Some((t0, speed)) = self.last[i] {
             let dt = t - t0;
             let path = speed * dt;
@@ -223,9 +228,9 @@ impl Collisions {
     }
 }
 
-impl Observer for Collisions {
+impl<const D: usize> Observer<D> for Collisions {
     #[inline]
-    fn on_event(&mut self, e: &EventRecord, sim: &Simulation) {
+    fn on_event(&mut self, e: &EventRecord<D>, sim: &Simulation<D>) {
         match e.kind {
             EventKind::DiscDisc { i, j } => {
                 self.block_disc_disc += 1;

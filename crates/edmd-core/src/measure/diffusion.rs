@@ -2,7 +2,7 @@
 //!
 //! `MSD(t) = <|r_i(t0 + t) - r_i(t0)|^2>` over the tagged discs, with unwrapped positions (the
 //! periodic images crossed are added back). For times long compared with the time between
-//! collisions the Einstein relation `MSD = 2 DIM D t + c` holds, in 2D `4 D t + c` (A. Einstein,
+//! collisions the Einstein relation `MSD = 2 D D t + c` holds, in 2D `4 D t + c` (A. Einstein,
 //! Ann. Phys. 17, 549 (1905); Allen and Tildesley, *Computer Simulation of Liquids*, 2nd ed.
 //! (2017), chapter 2), so `D` is a quarter of the slope of a least-squares line through the
 //! later part of the series.
@@ -14,19 +14,19 @@
 //! centre-of-mass drift (none for systems set up with zero momentum).
 
 use super::stats::linear_fit;
-use crate::math::{Vector, DIM};
+use crate::math::Vector;
 use crate::simulation::Simulation;
 
 /// Mean square displacement of tagged discs, sampled at times the caller chooses.
 #[derive(Clone, Debug)]
-pub struct Diffusion {
+pub struct Diffusion<const D: usize = 2> {
     start_time: f64,
     tagged: Vec<usize>,
-    start: Vec<Vector>,
+    start: Vec<Vector<D>>,
     series: Vec<(f64, f64)>,
 }
 
-/// A least-squares fit `MSD = 2 DIM D t + c`.
+/// A least-squares fit `MSD = 2 D D t + c`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct DiffusionFit {
     /// Diffusion coefficient `D`.
@@ -41,9 +41,9 @@ pub struct DiffusionFit {
     pub to: f64,
 }
 
-impl Diffusion {
+impl<const D: usize> Diffusion<D> {
     /// Tags every disc, starting at the simulation's current time.
-    pub fn new(sim: &Simulation) -> Self {
+    pub fn new(sim: &Simulation<D>) -> Self {
         Self::tagged(sim, (0..sim.len()).collect())
     }
 
@@ -51,7 +51,7 @@ impl Diffusion {
     ///
     /// # Panics
     /// If an index is out of range.
-    pub fn tagged(sim: &Simulation, tagged: Vec<usize>) -> Self {
+    pub fn tagged(sim: &Simulation<D>, tagged: Vec<usize>) -> Self {
         let start = tagged.iter().map(|&i| sim.unwrapped_position(i)).collect();
         Diffusion {
             start_time: sim.time(),
@@ -62,7 +62,7 @@ impl Diffusion {
     }
 
     /// Records `(time since the start, MSD)` now.
-    pub fn sample(&mut self, sim: &Simulation) {
+    pub fn sample(&mut self, sim: &Simulation<D>) {
         let sum: f64 = self
             .tagged
             .iter()
@@ -90,7 +90,7 @@ impl Diffusion {
             .collect();
         let (slope, intercept) = linear_fit(&points)?;
         Some(DiffusionFit {
-            coefficient: slope / (2.0 * DIM as f64),
+            coefficient: slope / (2.0 * D as f64),
             intercept,
             points: points.len(),
             from: points[0].0,

@@ -47,6 +47,6 @@ pub use collisions::{CollisionBlock, CollisionSummary, Collisions, DiscFlights};
 pub use diffusion::{Diffusion, DiffusionFit};
 pub use pressure::{Pressure, PressureBlock, PressureSummary};
 pub use species::{SpeciesHalves, SpeciesSnapshot, SpeciesSummary};
-pub use speeds::{rayleigh_cdf, rayleigh_pdf, SpeedSummary, Speeds};
+pub use speeds::{maxwell_cdf, maxwell_pdf, rayleigh_cdf, rayleigh_pdf, SpeedSummary, Speeds};
 pub use stats::{block_error, kolmogorov_q, ks_test, linear_fit, Estimate, Histogram, KsTest};
 pub use temperature::{kinetic_temperature, Temperature, TemperatureSummary};

@@ -8,22 +8,22 @@
 //!
 //! **Collision virial.** The virial theorem for impulsive forces (B. J. Alder and
 //! T. E. Wainwright, J. Chem. Phys. 33, 1439 (1960); Allen and Tildesley, *Computer Simulation of
-//! Liquids*, 2nd ed. (2017), chapter 2) gives, in `DIM` dimensions,
-//! `P A = N kT + (1/(DIM t)) sum_collisions r_ij . J_ij`, where `r_ij = r_i - r_j` is the
+//! Liquids*, 2nd ed. (2017), chapter 2) gives, in `D` dimensions,
+//! `P A = N kT + (1/(D t)) sum_collisions r_ij . J_ij`, where `r_ij = r_i - r_j` is the
 //! contact separation (minimum image) and `J_ij` the impulse received by `i`; in 2D the factor
 //! is `1/(2t)`. With periodic boundaries this is the pressure.
 //!
 //! **Walls shrink the area.** A disc's centre cannot come closer than its radius `R` to a
 //! wall. Time-averaging `d/dt sum m r.v = 0` with the wall forces included gives, for a wall
 //! pair on axis `a` carrying the force `F_a` each, the term `(L_a - 2R) F_a` instead of
-//! `L_a F_a`. With `F_a = P_wall A / L_a` the identity becomes `P_wall A_eff = N kT + (1/(DIM t))
-//! sum r_ij . J_ij` with `A_eff = A (1 - (2R/DIM) sum_{walled a} 1/L_a)`, in 2D with walls on
+//! `L_a F_a`. With `F_a = P_wall A / L_a` the identity becomes `P_wall A_eff = N kT + (1/(D t))
+//! sum r_ij . J_ij` with `A_eff = A (1 - (2R/D) sum_{walled a} 1/L_a)`, in 2D with walls on
 //! both axes `A - R (L_x + L_y)`. So the virial form with `A_eff` equals the wall pressure at
 //! equilibrium; with the bare `A` it would be low by the relative amount `R (L_x + L_y) / A`
 //! (5 % for `R = 1/2` in a 20 x 20 box). `R` is the mean radius, which is exact for equal discs.
 //!
 //! **Compressibility factor** `Z = P A_eff / (N kT)`; from the virial,
-//! `Z = 1 + sum r_ij . J_ij / (DIM t N kT)`, which does not depend on the area at all.
+//! `Z = 1 + sum r_ij . J_ij / (D t N kT)`, which does not depend on the area at all.
 //!
 //! **Errors.** Each call of [`Pressure::sample`] closes a block (from the previous call, or from
 //! the start). Values are time-weighted means over the blocks, i.e. totals over the whole
@@ -39,7 +39,6 @@
 
 use super::stats::Estimate;
 use crate::events::{EventKind, EventRecord};
-use crate::math::DIM;
 use crate::observer::Observer;
 use crate::simulation::Simulation;
 
@@ -65,7 +64,7 @@ pub struct PressureBlock {
     pub start: f64,
     /// End time.
     pub end: f64,
-    /// `N kT` (2 KE / DIM) at the end of the block.
+    /// `N kT` (2 KE / D) at the end of the block.
     pub nkt: f64,
     /// Sum of `|J_n|` over the wall collisions in the block.
     pub wall_impulse: f64,
@@ -90,11 +89,11 @@ pub struct PressureSummary {
     pub area: f64,
     /// Area available to the discs' centres for the virial, `A_eff` (`A` if fully periodic).
     pub effective_area: f64,
-    /// Virial pressure `(N kT + sum r.J / (DIM t)) / A_eff`.
+    /// Virial pressure `(N kT + sum r.J / (D t)) / A_eff`.
     pub virial: Estimate,
     /// Wall pressure `sum |J_n| / (L_walls t)` (`None` without walls).
     pub wall: Option<Estimate>,
-    /// Compressibility factor from the virial, `1 + sum r.J / (DIM t N kT)`.
+    /// Compressibility factor from the virial, `1 + sum r.J / (D t N kT)`.
     pub z: Estimate,
     /// Compressibility factor from the walls, `P_wall A_eff / (N kT)` (`None` without walls).
     pub z_wall: Option<Estimate>,
@@ -102,17 +101,17 @@ pub struct PressureSummary {
 
 impl Pressure {
     /// Starts measuring at the simulation's current time.
-    pub fn new(sim: &Simulation) -> Self {
+    pub fn new<const D: usize>(sim: &Simulation<D>) -> Self {
         let bx = sim.sim_box();
         let area = bx.volume();
         let n = sim.len();
         let mean_radius = (0..n).map(|i| sim.radius(i)).sum::<f64>() / n.max(1) as f64;
-        let walled = (0..DIM).filter(|&a| !bx.is_periodic(a));
+        let walled = (0..D).filter(|&a| !bx.is_periodic(a));
         let inverse_lengths: f64 = walled.clone().map(|a| 1.0 / bx.lengths[a]).sum();
         Pressure {
             n,
             area,
-            effective_area: area * (1.0 - 2.0 * mean_radius / DIM as f64 * inverse_lengths),
+            effective_area: area * (1.0 - 2.0 * mean_radius / D as f64 * inverse_lengths),
             // The walls perpendicular to axis a have "length" (area in 3D) A / L_a.
             wall_length: walled.map(|a| 2.0 * area / bx.lengths[a]).sum(),
             block_start: sim.time(),
@@ -124,14 +123,14 @@ impl Pressure {
 
     /// Closes the current block at the simulation's current time and starts the next one.
     /// Does nothing if no time has passed since the last call.
-    pub fn sample(&mut self, sim: &Simulation) {
+    pub fn sample<const D: usize>(&mut self, sim: &Simulation<D>) {
         let (start, end) = (self.block_start, sim.time());
         let dt = end - start;
         if dt <= 0.0 {
             return;
         }
-        let nkt = 2.0 * sim.kinetic_energy() / DIM as f64;
-        let collisional = self.block_virial / (DIM as f64 * dt);
+        let nkt = 2.0 * sim.kinetic_energy() / D as f64;
+        let collisional = self.block_virial / (D as f64 * dt);
         let wall = (self.wall_length > 0.0).then(|| self.block_wall / (self.wall_length * dt));
         self.blocks.push(PressureBlock {
             start,
@@ -195,9 +194,9 @@ impl Pressure {
     }
 }
 
-impl Observer for Pressure {
+impl<const D: usize> Observer<D> for Pressure {
     #[inline]
-    fn on_event(&mut self, e: &EventRecord, sim: &Simulation) {
+    fn on_event(&mut self, e: &EventRecord<D>, sim: &Simulation<D>) {
         match e.kind {
             EventKind::DiscDisc { i, j } => {
                 let r_ij = sim

@@ -63,8 +63,8 @@ impl SpeciesHalves {
     ///
     /// # Panics
     /// If `axis` is not an axis of the box.
-    pub fn new(sim: &Simulation, axis: usize) -> Self {
-        assert!(axis < crate::math::DIM, "no axis {axis}");
+    pub fn new<const D: usize>(sim: &Simulation<D>, axis: usize) -> Self {
+        assert!(axis < D, "no axis {axis}");
         let species = (0..sim.len()).map(|i| sim.species(i) as usize + 1).max();
         SpeciesHalves {
             axis,
@@ -74,7 +74,7 @@ impl SpeciesHalves {
     }
 
     /// Records the counts now.
-    pub fn sample(&mut self, sim: &Simulation) {
+    pub fn sample<const D: usize>(&mut self, sim: &Simulation<D>) {
         let mid = 0.5 * sim.sim_box().lengths[self.axis];
         let mut counts = vec![[0usize; 2]; self.species];
         for i in 0..sim.len() {

@@ -1,11 +1,15 @@
-//! Speed distribution against the 2D Maxwell-Boltzmann law.
+//! Speed distribution against the Maxwell-Boltzmann law, in 2D or 3D.
 //!
-//! In equilibrium each velocity component of a disc of mass `m` is normal with variance
-//! `kT/m`, so in 2D the speed follows the Rayleigh law (the 2D Maxwell-Boltzmann speed
-//! distribution; e.g. Reif, *Fundamentals of Statistical and Thermal Physics* (1965), chapter 7,
-//! reduced to two dimensions):
-//! `f(v) = (m v / kT) exp(-m v^2 / (2 kT))`, `F(v) = 1 - exp(-m v^2 / (2 kT))`, with mean speed
-//! `sqrt(pi kT / (2m))` and root mean square speed `sqrt(2 kT / m)`.
+//! In equilibrium each velocity component of a particle of mass `m` is normal with variance
+//! `kT/m` (Reif, *Fundamentals of Statistical and Thermal Physics* (1965), chapter 7), so the
+//! speed follows a chi law with `D` degrees of freedom scaled by `sqrt(kT/m)`:
+//! - in 2D the Rayleigh law `f(v) = (m v / kT) exp(-m v^2 / (2 kT))`,
+//!   `F(v) = 1 - exp(-m v^2 / (2 kT))`, mean speed `sqrt(pi kT / (2m))`;
+//! - in 3D the Maxwell law `f(v) = sqrt(2/pi) (m/kT)^(3/2) v^2 exp(-m v^2 / (2 kT))`,
+//!   `F(v) = erf(x / sqrt 2) - sqrt(2/pi) x exp(-x^2/2)` with `x = v sqrt(m/kT)`, mean speed
+//!   `sqrt(8 kT / (pi m))`;
+//!
+//! and in both the root mean square speed is `sqrt(D kT / m)`.
 //!
 //! The fit is judged with the Kolmogorov-Smirnov test ([`ks_test`]) on the values
 //! `F(v_i; m_i)`, which are uniform on `[0, 1]` if the law holds: for equal masses this is the
@@ -26,6 +30,46 @@ pub fn rayleigh_cdf(v: f64, m: f64, kt: f64) -> f64 {
     -(-m * v * v / (2.0 * kt)).exp_m1()
 }
 
+/// The Maxwell-Boltzmann speed density in `dim` dimensions (2 or 3; the Rayleigh law in 2D).
+///
+/// # Panics
+/// If `dim` is not 2 or 3.
+pub fn maxwell_pdf(v: f64, m: f64, kt: f64, dim: usize) -> f64 {
+    match dim {
+        2 => rayleigh_pdf(v, m, kt),
+        3 => {
+            let a = m / kt;
+            (2.0 / std::f64::consts::PI).sqrt() * a.powf(1.5) * v * v * (-a * v * v / 2.0).exp()
+        }
+        _ => panic!("no Maxwell-Boltzmann law for dimension {dim}"),
+    }
+}
+
+/// The Maxwell-Boltzmann speed CDF in `dim` dimensions (2 or 3).
+///
+/// # Panics
+/// If `dim` is not 2 or 3.
+pub fn maxwell_cdf(v: f64, m: f64, kt: f64, dim: usize) -> f64 {
+    match dim {
+        2 => rayleigh_cdf(v, m, kt),
+        3 => {
+            let x = v * (m / kt).sqrt();
+            libm::erf(x / std::f64::consts::SQRT_2)
+                - (2.0 / std::f64::consts::PI).sqrt() * x * (-x * x / 2.0).exp()
+        }
+        _ => panic!("no Maxwell-Boltzmann law for dimension {dim}"),
+    }
+}
+
+/// Mean speed of the Maxwell-Boltzmann law in `dim` dimensions (2 or 3).
+fn maxwell_mean(m: f64, kt: f64, dim: usize) -> f64 {
+    let pi = std::f64::consts::PI;
+    match dim {
+        2 => (pi * kt / (2.0 * m)).sqrt(),
+        _ => (8.0 * kt / (pi * m)).sqrt(),
+    }
+}
+
 /// Speeds of every disc pooled over the snapshots the caller takes.
 #[derive(Clone, Debug)]
 pub struct Speeds {
@@ -33,9 +77,12 @@ pub struct Speeds {
     masses: Vec<f64>,
     histogram: Histogram,
     snapshots: usize,
+    /// The dimension of the sampled system (2 until a sample says otherwise).
+    dim: usize,
 }
 
-/// Result of a speed measurement, against the Rayleigh law at a given `kT`.
+/// Result of a speed measurement, against the Maxwell-Boltzmann law (Rayleigh in 2D) at a
+/// given `kT`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SpeedSummary {
     /// Speeds pooled.
@@ -46,11 +93,12 @@ pub struct SpeedSummary {
     pub mean: f64,
     /// Root mean square speed `sqrt(<v^2>)`.
     pub rms: f64,
-    /// Mean speed of the Rayleigh law, `sqrt(pi kT / (2m))` averaged over the samples' masses.
+    /// Mean speed of the law, `sqrt(pi kT / (2m))` in 2D and `sqrt(8 kT / (pi m))` in 3D,
+    /// averaged over the samples' masses.
     pub mean_theory: f64,
-    /// RMS speed of the Rayleigh law, `sqrt(2 kT <1/m>)`.
+    /// RMS speed of the law, `sqrt(D kT <1/m>)`.
     pub rms_theory: f64,
-    /// Kolmogorov-Smirnov test against the Rayleigh law.
+    /// Kolmogorov-Smirnov test against the law.
     pub ks: KsTest,
 }
 
@@ -65,11 +113,13 @@ impl Speeds {
             masses: Vec::new(),
             histogram: Histogram::new(0.0, max_speed, bins),
             snapshots: 0,
+            dim: 2,
         }
     }
 
     /// Adds the speed of every disc now.
-    pub fn sample(&mut self, sim: &Simulation) {
+    pub fn sample<const D: usize>(&mut self, sim: &Simulation<D>) {
+        self.dim = D;
         for i in 0..sim.len() {
             let v = sim.velocity(i).norm2().sqrt();
             self.speeds.push(v);
@@ -120,12 +170,42 @@ impl Speeds {
         ks_test(&u, |x| x.clamp(0.0, 1.0))
     }
 
-    /// Kolmogorov-Smirnov test against the Rayleigh law at `kT`.
+    /// Kolmogorov-Smirnov test against the Rayleigh law at `kT` (the 2D law, whatever was
+    /// sampled).
     pub fn ks_rayleigh(&self, kt: f64) -> KsTest {
         self.ks_test(|v, m| rayleigh_cdf(v, m, kt))
     }
 
-    /// Moments and the fit to the Rayleigh law at `kT` (for instance
+    /// The dimension of the sampled system.
+    pub fn dim(&self) -> usize {
+        self.dim
+    }
+
+    /// Kolmogorov-Smirnov test against the Maxwell-Boltzmann law of the sampled dimension.
+    pub fn ks_maxwell(&self, kt: f64) -> KsTest {
+        let dim = self.dim;
+        self.ks_test(|v, m| maxwell_cdf(v, m, kt, dim))
+    }
+
+    /// [`Self::histogram_vs_rayleigh`] against the law of the sampled dimension.
+    pub fn histogram_vs_maxwell(&self, kt: f64) -> Vec<(f64, f64, f64)> {
+        let n = self.masses.len().max(1) as f64;
+        self.histogram
+            .density()
+            .into_iter()
+            .map(|(v, f)| {
+                let law = self
+                    .masses
+                    .iter()
+                    .map(|&m| maxwell_pdf(v, m, kt, self.dim))
+                    .sum::<f64>()
+                    / n;
+                (v, f, law)
+            })
+            .collect()
+    }
+
+    /// Moments and the fit to the Maxwell-Boltzmann law of the sampled dimension at `kT` (for instance
     /// [`kinetic_temperature`](super::kinetic_temperature), which is constant in a run).
     pub fn summary(&self, kt: f64) -> SpeedSummary {
         let n = self.speeds.len() as f64;
@@ -142,9 +222,9 @@ impl Speeds {
             snapshots: self.snapshots,
             mean: mean_of(&|v, _| v),
             rms: mean_of(&|v, _| v * v).sqrt(),
-            mean_theory: mean_of(&|_, m| (std::f64::consts::PI * kt / (2.0 * m)).sqrt()),
-            rms_theory: mean_of(&|_, m| 2.0 * kt / m).sqrt(),
-            ks: self.ks_rayleigh(kt),
+            mean_theory: mean_of(&|_, m| maxwell_mean(m, kt, self.dim)),
+            rms_theory: mean_of(&|_, m| self.dim as f64 * kt / m).sqrt(),
+            ks: self.ks_maxwell(kt),
         }
     }
 }
@@ -171,6 +251,34 @@ mod tests {
         assert!((mean - (std::f64::consts::PI * kt / (2.0 * m)).sqrt()).abs() < 1e-8);
         assert!((sq - 2.0 * kt / m).abs() < 1e-8);
         assert!((rayleigh_cdf(1.0, m, kt) - (1.0 - (-2.0f64 / 3.0).exp())).abs() < 1e-15);
+    }
+
+    #[test]
+    fn maxwell_law_in_3d_is_normalised_has_its_moments_and_its_cdf_integrates_its_density() {
+        // Reif (1965) eq. 7.10.x: in 3D the mean speed is sqrt(8 kT / (pi m)) and the mean
+        // square speed 3 kT / m. Midpoint rule on [0, 20], m = 2, kT = 1.5; the CDF is checked
+        // against the running integral of the density.
+        let (m, kt, h) = (2.0, 1.5, 1e-4);
+        let (mut norm, mut mean, mut sq) = (0.0, 0.0, 0.0);
+        for k in 0..200_000 {
+            let v = (k as f64 + 0.5) * h;
+            let f = maxwell_pdf(v, m, kt, 3) * h;
+            norm += f;
+            mean += v * f;
+            sq += v * v * f;
+            if (k + 1) % 10_000 == 0 {
+                let cdf = maxwell_cdf((k + 1) as f64 * h, m, kt, 3);
+                assert!(
+                    (cdf - norm).abs() < 1e-8,
+                    "F({}) = {cdf}, integral {norm}",
+                    (k + 1) as f64 * h
+                );
+            }
+        }
+        assert!((norm - 1.0).abs() < 1e-8);
+        assert!((mean - (8.0 * kt / (std::f64::consts::PI * m)).sqrt()).abs() < 1e-8);
+        assert!((sq - 3.0 * kt / m).abs() < 1e-8);
+        assert_eq!(maxwell_cdf(0.7, m, kt, 2), rayleigh_cdf(0.7, m, kt));
     }
 
     #[test]

@@ -1,27 +1,26 @@
 //! Kinetic temperature.
 //!
 //! Equipartition gives `kT/2` per translational degree of freedom, so with `k_B = 1`
-//! `kT = sum m v^2 / (DIM N)`, in 2D `sum m v^2 / (2N)` (Allen and Tildesley, *Computer
+//! `kT = sum m v^2 / (D N)`, in 2D `sum m v^2 / (2N)` (Allen and Tildesley, *Computer
 //! Simulation of Liquids*, 2nd ed. (2017), chapter 2, the kinetic temperature). The centre-of-mass
 //! motion is not removed: systems set up with zero momentum (as
 //! [`crate::setup::lattice_fluid`] does) keep it, and the constraint then only shifts the
 //! estimate by a relative `1/N`.
 
-use crate::math::DIM;
 use crate::simulation::Simulation;
 
-/// `kT = sum m v^2 / (DIM N)` over the discs accepted by `keep` (`NaN` if none).
-fn temperature_of(sim: &Simulation, keep: impl Fn(usize) -> bool) -> f64 {
+/// `kT = sum m v^2 / (D N)` over the discs accepted by `keep` (`NaN` if none).
+fn temperature_of<const D: usize>(sim: &Simulation<D>, keep: impl Fn(usize) -> bool) -> f64 {
     let (mut twice_ke, mut n) = (0.0, 0usize);
     for i in (0..sim.len()).filter(|&i| keep(i)) {
         twice_ke += sim.mass(i) * sim.velocity(i).norm2();
         n += 1;
     }
-    twice_ke / (DIM * n) as f64
+    twice_ke / (D * n) as f64
 }
 
-/// The kinetic temperature of the whole system now, `kT = sum m v^2 / (DIM N)`.
-pub fn kinetic_temperature(sim: &Simulation) -> f64 {
+/// The kinetic temperature of the whole system now, `kT = sum m v^2 / (D N)`.
+pub fn kinetic_temperature<const D: usize>(sim: &Simulation<D>) -> f64 {
     temperature_of(sim, |_| true)
 }
 
@@ -61,7 +60,7 @@ impl Temperature {
     }
 
     /// Records `(t, kT)` now.
-    pub fn sample(&mut self, sim: &Simulation) {
+    pub fn sample<const D: usize>(&mut self, sim: &Simulation<D>) {
         let kt = match self.species {
             None => kinetic_temperature(sim),
             Some(s) => temperature_of(sim, |i| sim.species(i) == s),

@@ -1,5 +1,5 @@
-//! Reference formulas for hard discs (diameter `sigma`, packing fraction `eta`), written once
-//! for the experiments and measurements that compare against them.
+//! Reference formulas for hard discs and hard spheres (diameter `sigma`, packing fraction
+//! `eta`), written once for the experiments and measurements that compare against them.
 
 use std::f64::consts::PI;
 
@@ -32,9 +32,87 @@ pub fn enskog_mean_free_path(eta: f64, sigma: f64) -> f64 {
     1.0 / (2.0 * 2f64.sqrt() * number_density(eta, sigma) * sigma * henderson_contact(eta))
 }
 
+/// The hard-sphere equation of state of M. Pieprzyk, M. N. Bannerman, A. C. Brańka, M. Chudak
+/// and D. M. Heyes, Phys. Chem. Chem. Phys. 21, 6886 (2019), fitted to long event-driven runs
+/// extrapolated to infinite N: `Z = 1 + sum c_k Y^k`, `Y = eta / (1 - eta)`, with the
+/// coefficients of Bannerman's Revised-Enskog calculator (`enskog.hpp`, `HEYES`; their
+/// expansion in `eta` reproduces the exact virial coefficients `B2` to `B6`). Carnahan-Starling
+/// is up to 0.28 % below it between 0.3 and 0.45.
+pub fn pieprzyk_z(eta: f64) -> f64 {
+    const C: [(i32, f64); 11] = [
+        (1, 4.0),
+        (2, 6.0),
+        (3, 2.364_768_4),
+        (4, -0.869_855_1),
+        (5, 1.106_280_3),
+        (6, -1.101_422_1),
+        (7, 0.666_058_66),
+        (8, -0.036_334_31),
+        (10, -0.209_651_64),
+        (14, 0.105_555_69),
+        (22, -0.008_723_80),
+    ];
+    let y = eta / (1.0 - eta);
+    1.0 + C.iter().map(|&(k, c)| c * y.powi(k)).sum::<f64>()
+}
+
+/// The Carnahan-Starling hard-sphere equation of state
+/// `Z = (1 + eta + eta^2 - eta^3) / (1 - eta)^3` (J. Chem. Phys. 51, 635 (1969)).
+pub fn carnahan_starling_z(eta: f64) -> f64 {
+    (1.0 + eta + eta * eta - eta * eta * eta) / (1.0 - eta).powi(3)
+}
+
+/// The collision rate per particle that an equation of state implies, exactly, for equal hard
+/// particles of diameter `sigma` and mass `m` in equilibrium at `kT`: `Gamma = 2 D (Z - 1)
+/// sqrt(kT / (pi m)) / sigma` in `dim` dimensions (`4 (Z - 1) ...` for discs, `6 (Z - 1) ...`
+/// for spheres). From the virial `Z - 1 = sum r.J / (D N kT t)`, each collision giving
+/// `r.J = sigma m |v_n|` with the mean normal speed of colliding pairs `sqrt(pi kT / m)`, and
+/// `N Gamma / 2` collisions per unit time (derivation in `docs/notes/research-3d.md`).
+pub fn collision_rate_from_z(z: f64, dim: usize, sigma: f64, kt: f64, m: f64) -> f64 {
+    2.0 * dim as f64 * (z - 1.0) * (kt / (PI * m)).sqrt() / sigma
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn pieprzyk_equation_of_state_has_the_exact_virial_coefficients_and_its_published_values() {
+        // Low density: Z = 1 + B2 eta + B3 eta^2 + ..., B2 = 4, B3 = 10 (exact).
+        let eta = 1e-4;
+        let b = (pieprzyk_z(eta) - 1.0 - 4.0 * eta) / (eta * eta);
+        assert!((b - 10.0).abs() < 0.01, "B3 {b}");
+        // Values of the fit computed independently (docs/notes/research-3d.md, section 1).
+        for (eta, z) in [
+            (0.1, 1.52165),
+            (0.3, 3.98398),
+            (0.45, 9.40411),
+            (0.5, 13.01668),
+        ] {
+            assert!(
+                (pieprzyk_z(eta) - z).abs() < 2e-5,
+                "{eta}: {}",
+                pieprzyk_z(eta)
+            );
+        }
+        // Carnahan-Starling is within 0.3 % of it, and below it.
+        for eta in [0.2, 0.3, 0.4, 0.45] {
+            let r = carnahan_starling_z(eta) / pieprzyk_z(eta) - 1.0;
+            assert!(r < 0.0 && r > -0.003, "{eta}: {r}");
+        }
+    }
+
+    #[test]
+    fn collision_rate_from_z_matches_enskog_in_2d() {
+        // In 2D, Z - 1 = 2 eta g and Enskog's rate 2 n sigma g sqrt(pi kT/m) are the same
+        // relation written with g: the two must agree for any g.
+        for eta in [0.1, 0.4, 0.6] {
+            let z = henderson_z(eta);
+            let rate = collision_rate_from_z(z, 2, 1.0, 1.3, 0.7);
+            let enskog = enskog_collision_frequency(eta, 1.0, 1.3, 0.7);
+            assert!((rate / enskog - 1.0).abs() < 1e-12, "{rate} {enskog}");
+        }
+    }
 
     #[test]
     fn contact_value_and_equation_of_state_agree() {

@@ -11,7 +11,7 @@
 //! below [`MIN_STEP`] and the compression gives up.
 
 use crate::cells::CellGrid;
-use crate::math::{Vector, DIM};
+use crate::math::Vector;
 use crate::simulation::{Options, Simulation};
 use crate::state::{Disc, SimBox};
 
@@ -36,9 +36,9 @@ const MARGIN: f64 = 1e-10;
 const COLLISIONS_PER_STAGE: f64 = 1.0;
 
 /// The outcome of [`compress`].
-pub(crate) struct Compressed {
+pub(crate) struct Compressed<const D: usize> {
     /// The simulation at the target box.
-    pub sim: Simulation,
+    pub sim: Simulation<D>,
     /// Stages taken (including undone ones).
     pub stages: u32,
     /// Collisions per disc run on the way.
@@ -48,11 +48,11 @@ pub(crate) struct Compressed {
 /// Compresses the simulation's discs into the box with lengths `target` (each no longer than
 /// the current one, same proportions). On failure returns the packing reached and the stages
 /// taken.
-pub(crate) fn compress(
-    mut sim: Simulation,
-    target: [f64; DIM],
+pub(crate) fn compress<const D: usize>(
+    mut sim: Simulation<D>,
+    target: [f64; D],
     max_stages: u32,
-) -> Result<Compressed, (f64, u32)> {
+) -> Result<Compressed<D>, (f64, u32)> {
     let n = sim.len().max(1);
     let per_stage = (COLLISIONS_PER_STAGE * n as f64 / 2.0).ceil() as u64;
     let mut step = START_STEP;
@@ -63,7 +63,7 @@ pub(crate) fn compress(
         let last = target[0] / sim_box.lengths[0] >= 1.0 - step;
         let mut trial = discs.clone();
         let mut trial_box = sim_box;
-        for a in 0..DIM {
+        for a in 0..D {
             let scale = if last {
                 target[a] / sim_box.lengths[a]
             } else {
@@ -106,7 +106,11 @@ pub(crate) fn compress(
 /// Moves discs until no two overlap and none crosses a wall, each sweep pushing every
 /// overlapping pair apart along its line of centres (each disc half the overlap, plus a tiny
 /// margin). Returns false if overlaps remain after `max_sweeps`.
-pub fn remove_overlaps(discs: &mut [Disc], sim_box: &SimBox, max_sweeps: u32) -> bool {
+pub fn remove_overlaps<const D: usize>(
+    discs: &mut [Disc<D>],
+    sim_box: &SimBox<D>,
+    max_sweeps: u32,
+) -> bool {
     let n = discs.len();
     let d_max = discs.iter().map(|d| 2.0 * d.radius).fold(0.0, f64::max);
     let mut push = vec![Vector::ZERO; n];
@@ -116,7 +120,7 @@ pub fn remove_overlaps(discs: &mut [Disc], sim_box: &SimBox, max_sweeps: u32) ->
         }
         push.fill(Vector::ZERO);
         let mut clear = true;
-        let visit = |i: usize, j: usize, d: Vector, push: &mut [Vector]| {
+        let visit = |i: usize, j: usize, d: Vector<D>, push: &mut [Vector<D>]| {
             let sigma = discs[i].radius + discs[j].radius;
             let r2 = d.norm2();
             if r2 < sigma * sigma {
@@ -124,7 +128,9 @@ pub fn remove_overlaps(discs: &mut [Disc], sim_box: &SimBox, max_sweeps: u32) ->
                 let u = if r > 0.0 {
                     d / r
                 } else {
-                    Vector::new([1.0, 0.0])
+                    let mut x = Vector::ZERO;
+                    x[0] = 1.0;
+                    x
                 };
                 let half = 0.5 * (sigma * (1.0 + MARGIN) - r);
                 push[i] -= u * half;
@@ -159,7 +165,7 @@ pub fn remove_overlaps(discs: &mut [Disc], sim_box: &SimBox, max_sweeps: u32) ->
         }
         for (d, p) in discs.iter_mut().zip(&push) {
             d.pos += *p;
-            for a in 0..DIM {
+            for a in 0..D {
                 if !sim_box.is_periodic(a) {
                     let (lo, hi) = (d.radius, sim_box.lengths[a] - d.radius);
                     if d.pos[a] < lo || d.pos[a] > hi {

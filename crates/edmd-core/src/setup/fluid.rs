@@ -12,6 +12,13 @@
 //!    `|psi_6|` (six nearest neighbours, [`super::order`]) falls below a threshold
 //!    ([`melting_threshold`]), checked after 5 collisions per disc and then after every further
 //!    one. A lattice that has not melted within a bounded number of collisions is an error.
+//!
+//! Spheres (`generate_in::<3>`) are made the same way from a face-centred cubic lattice with
+//! vacancies, melted at a packing of at most [`MELT_PACKING_3D`], and the order parameter is the
+//! amplitude of the lattice's own density wave: `sqrt(mean |rho_k|^2)` over the four `{111}`
+//! reciprocal vectors of the (uniformly shrinking) cubic cell, `rho_k = (1/N) sum exp(i k.r)`,
+//! near 1 on the lattice and about `1/sqrt(N)` in a fluid, judged against the same
+//! [`melting_threshold`]. Spheres are fluid up to [`FLUID_MAX_PACKING_3D`].
 //! 3. **Compression**, if the requested packing is higher: positions and box are scaled down in
 //!    stages, each followed by removal of the few overlaps it makes and a collision per disc of
 //!    engine time ([`super::compress`]). The last stage lands on the box that gives exactly the
@@ -32,10 +39,10 @@ use rand_pcg::Pcg64Mcg;
 
 use super::compress::compress;
 use super::generators::{BLUE, RED};
-use super::lattice::{thermal_velocities, CLOSE_PACKING};
-use super::order::{psi6, Neighbours};
+use super::lattice::{ball_volume, close_packing, fcc_sites, root, thermal_velocities};
+use super::order::{fcc_order, psi6, Neighbours};
 use crate::error::Error;
-use crate::math::{Vector, DIM};
+use crate::math::Vector;
 use crate::simulation::{Options, Simulation};
 use crate::state::{Boundary, Disc, SimBox, System};
 
@@ -47,6 +54,18 @@ pub const MIN_FLUID_DISCS: usize = 20;
 /// Bernard and W. Krauth, Phys. Rev. Lett. 107, 155704 (2011)). Denser disordered systems are
 /// mixtures.
 pub const FLUID_MAX_PACKING: f64 = 0.70;
+
+/// Highest packing of a [`Fluid`] of spheres (3D). The hard-sphere fluid freezes at 0.494 and
+/// the solid melts at 0.545 (W. G. Hoover and F. H. Ree, J. Chem. Phys. 49, 3609 (1968));
+/// between them a fluid is metastable, and at 0.50 it stays a fluid for far longer than any
+/// run here (crystal nucleation needs packings near 0.53 to be quick: S. Auer and D. Frenkel,
+/// Nature 409, 1020 (2001)).
+pub const FLUID_MAX_PACKING_3D: f64 = 0.50;
+
+/// Highest packing at which a lattice of spheres is placed and melted: a face-centred cubic
+/// crystal with vacancies at 0.35 is far below the solid's melting packing and melts within a
+/// few collisions per sphere.
+pub const MELT_PACKING_3D: f64 = 0.35;
 
 /// The default threshold on `|psi_6|` for `n` discs: `10 / sqrt(n)`, but never above 0.5.
 ///
@@ -193,7 +212,8 @@ pub struct MeltReport {
     pub stages: u32,
     /// Collisions per disc run in all (melting, compression, equilibration and final check).
     pub collisions_per_disc: f64,
-    /// `|psi_6|` (six nearest neighbours) of the returned configuration.
+    /// The order parameter of the returned configuration: in 2D `|psi_6|` (six nearest
+    /// neighbours), in 3D the amplitude of the FCC lattice's density wave (see the module doc).
     pub psi6: f64,
     /// The threshold it is below.
     pub threshold: f64,
@@ -209,10 +229,25 @@ impl Fluid {
 
     /// Builds the fluid and reports how it was made.
     pub fn generate_with_report(&self, seed: u64) -> Result<(System, MeltReport), Error> {
-        if self.packing > FLUID_MAX_PACKING {
+        self.generate_in::<2>(seed)
+    }
+
+    /// Builds the fluid in `D` dimensions (2: discs, 3: spheres of diameter 1, up to a packing
+    /// of [`FLUID_MAX_PACKING_3D`], melted from a face-centred cubic lattice) and reports how it
+    /// was made.
+    pub fn generate_in<const D: usize>(&self, seed: u64) -> Result<(System<D>, MeltReport), Error> {
+        check_dim(D)?;
+        if D == 2 && self.packing > FLUID_MAX_PACKING {
             return Err(Error::Invalid(format!(
                 "fluid: packing {} is above {FLUID_MAX_PACKING}, where equal hard discs stop being a liquid \
                  (hexatic from 0.700, solid from 0.720); use a mixture for a denser disordered system",
+                self.packing
+            )));
+        }
+        if D == 3 && self.packing > FLUID_MAX_PACKING_3D {
+            return Err(Error::Invalid(format!(
+                "fluid: packing {} is above {FLUID_MAX_PACKING_3D}: hard spheres freeze at 0.494 and a denser \
+                 fluid soon crystallises; use a mixture for a denser disordered system",
                 self.packing
             )));
         }
@@ -237,6 +272,13 @@ impl Mixture {
 
     /// Builds the mixture and reports how it was made.
     pub fn generate_with_report(&self, seed: u64) -> Result<(System, MeltReport), Error> {
+        self.generate_in::<2>(seed)
+    }
+
+    /// Builds the mixture in `D` dimensions (2: discs, 3: spheres, placed on a face-centred
+    /// cubic lattice spaced for the largest) and reports how it was made.
+    pub fn generate_in<const D: usize>(&self, seed: u64) -> Result<(System<D>, MeltReport), Error> {
+        check_dim(D)?;
         let mut rng = Pcg64Mcg::seed_from_u64(seed);
         let discs = self.discs(&mut rng)?;
         make(
@@ -250,7 +292,7 @@ impl Mixture {
     }
 
     /// The `n` discs (sizes, species, colours), in random order.
-    fn discs(&self, rng: &mut impl Rng) -> Result<Vec<Disc>, Error> {
+    fn discs<const D: usize>(&self, rng: &mut impl Rng) -> Result<Vec<Disc<D>>, Error> {
         let n = self.n;
         let disc = |d: f64, species: u16, colour| Disc {
             species,
@@ -273,7 +315,7 @@ impl Mixture {
                     )));
                 }
                 let large = (fraction_large * n as f64).round() as usize;
-                let mut discs: Vec<Disc> = (0..n)
+                let mut discs: Vec<Disc<D>> = (0..n)
                     .map(|k| {
                         if k < large {
                             disc(size_ratio, 1, RED)
@@ -307,27 +349,32 @@ impl Mixture {
 
 /// Places `discs` (sizes and labels set) on a lattice, melts, compresses, equilibrates and
 /// checks them (see the module doc).
-fn make(
+fn make<const D: usize>(
     kind: &str,
-    discs: Vec<Disc>,
+    discs: Vec<Disc<D>>,
     packing: f64,
     boundary: Boundary,
     recipe: &Recipe,
     rng: &mut impl Rng,
-) -> Result<(System, MeltReport), Error> {
+) -> Result<(System<D>, MeltReport), Error> {
     let n = discs.len();
-    check(kind, n, packing, recipe)?;
+    check(kind, n, packing, D, recipe)?;
     let threshold = recipe
         .psi6_threshold
         .unwrap_or_else(|| melting_threshold(n));
     let diameters: Vec<f64> = discs.iter().map(|d| 2.0 * d.radius).collect();
-    let lat = Triangular::new(n, recipe.vacancies, boundary);
+    let lat = Lattice::<D>::new(n, recipe.vacancies, boundary);
+    let melt_packing = if D == 3 {
+        recipe.melt_packing.min(MELT_PACKING_3D)
+    } else {
+        recipe.melt_packing
+    };
     let start = packing
-        .min(recipe.melt_packing)
+        .min(melt_packing)
         .min(lat.densest_packing(&diameters));
     let mut sim = new_simulation(lat.place(discs, start, rng), kind)?;
     let max = recipe.max_collisions_per_disc;
-    let melted = settle(&mut sim, threshold, 5, max).map_err(|psi| {
+    let melted = settle(&mut sim, &lat, threshold, 5, max).map_err(|psi| {
         Error::Invalid(format!(
             "{kind}: the starting lattice did not melt at packing {start:.4} within {max} collisions per disc \
              (|psi_6| = {psi:.3}, threshold {threshold:.3}); lower the melting packing or raise the vacancies"
@@ -347,10 +394,16 @@ fn make(
         work += c.collisions_per_disc;
     }
     let equilibrate = recipe.equilibrate_collisions_per_disc;
-    settle(&mut sim, threshold, equilibrate, equilibrate + max).map_err(|psi| {
+    settle(&mut sim, &lat, threshold, equilibrate, equilibrate + max).map_err(|psi| {
+        let phases = if D == 3 {
+            "hard spheres freeze above 0.494"
+        } else {
+            "hard discs are hexatic above about 0.70 and solid above 0.72"
+        };
         Error::Invalid(format!(
-            "{kind}: at packing {packing} the system stayed ordered (|psi_6| = {psi:.3} after {} collisions per disc, \
-             threshold {threshold:.3}): hard discs are hexatic above about 0.70 and solid above 0.72",
+            "{kind}: at packing {packing} the system stayed ordered ({} = {psi:.3} after {} collisions per particle, \
+             threshold {threshold:.3}): {phases}",
+            lat.order_name(),
             equilibrate + max
         ))
     })?;
@@ -364,7 +417,7 @@ fn make(
         melt_collisions_per_disc: melted,
         stages,
         collisions_per_disc: work + collisions_per_disc(&sim),
-        psi6: psi6(&system.discs, &system.sim_box, Neighbours::Nearest(6)),
+        psi6: lat.order(&system.discs, &system.sim_box),
         threshold,
         packing: packing_of(&system.discs, &system.sim_box),
     };
@@ -372,14 +425,16 @@ fn make(
 }
 
 /// Checks the parameters that fluids and mixtures share.
-fn check(kind: &str, n: usize, packing: f64, recipe: &Recipe) -> Result<(), Error> {
+fn check(kind: &str, n: usize, packing: f64, dim: usize, recipe: &Recipe) -> Result<(), Error> {
     let bad = |what: String| Err(Error::Invalid(format!("{kind}: {what}")));
     if n < MIN_FLUID_DISCS {
         return bad(format!("needs at least {MIN_FLUID_DISCS} discs, got {n}"));
     }
-    if !(packing > 0.0 && packing < CLOSE_PACKING) {
+    let close = close_packing(dim);
+    if !(packing > 0.0 && packing < close) {
+        let what = if dim == 3 { "spheres" } else { "discs" };
         return bad(format!(
-            "packing fraction {packing} is outside (0, {CLOSE_PACKING:.4}) (close packing of discs)"
+            "packing fraction {packing} is outside (0, {close:.4}) (close packing of {what})"
         ));
     }
     if !(0.0..=0.5).contains(&recipe.vacancies) {
@@ -402,68 +457,69 @@ fn check(kind: &str, n: usize, packing: f64, recipe: &Recipe) -> Result<(), Erro
     Ok(())
 }
 
-/// A triangular lattice of at least `n / (1 - vacancies)` sites in a near-square box, in units
-/// of the lattice spacing. Periodic boxes get an even number of rows, so that the staggered
-/// rows match across the boundary; walled ones keep half a spacing clear of the walls.
-struct Triangular {
-    sites: Vec<Vector>,
-    /// Box lengths in spacings.
-    size: [f64; DIM],
+/// The starting lattice: triangular in 2D, face-centred cubic in 3D, with at least
+/// `n / (1 - vacancies)` sites in a near-square box or a cube, in units of the lattice's own
+/// length (the spacing in 2D, the cubic cell's side in 3D). Periodic 2D boxes get an even
+/// number of rows, so that the staggered rows match across the boundary; walled boxes keep half
+/// a nearest-neighbour distance clear of the walls.
+struct Lattice<const D: usize> {
+    sites: Vec<Vector<D>>,
+    /// Box lengths in lattice units.
+    size: [f64; D],
+    /// Nearest-neighbour distance in lattice units: 1 (triangular), `1 / sqrt 2` (FCC).
+    nearest: f64,
     boundary: Boundary,
 }
 
-impl Triangular {
+impl<const D: usize> Lattice<D> {
     fn new(n: usize, vacancies: f64, boundary: Boundary) -> Self {
-        let h = 3f64.sqrt() / 2.0;
         let m = ((n as f64 / (1.0 - vacancies)).ceil() as usize).max(n);
-        let mut rows = ((m as f64 / h).sqrt().ceil() as usize).max(1);
-        if boundary == Boundary::Periodic && rows % 2 == 1 {
-            rows += 1;
-        }
-        let cols = m.div_ceil(rows).max(1);
-        let (size, x0, y0) = match boundary {
-            Boundary::Periodic => ([cols as f64, rows as f64 * h], 0.25, h / 2.0),
-            Boundary::Walls => ([cols as f64 + 0.5, (rows - 1) as f64 * h + 1.0], 0.5, 0.5),
+        let (sites, size, nearest) = if D == 3 {
+            let (s, size) = fcc_sites(m, boundary);
+            (s, size, std::f64::consts::FRAC_1_SQRT_2)
+        } else {
+            let (s, size) = triangular_sites(m, boundary);
+            (s, [size[0], size[1], 0.0], 1.0)
         };
-        let sites = (0..rows)
-            .flat_map(|row| {
-                (0..cols).map(move |col| {
-                    let shift = if row % 2 == 1 { 0.5 } else { 0.0 };
-                    Vector::new([x0 + col as f64 + shift, y0 + row as f64 * h])
-                })
-            })
-            .collect();
-        Triangular {
-            sites,
-            size,
+        Lattice {
+            sites: sites
+                .iter()
+                .map(|s| Vector(std::array::from_fn(|a| s[a])))
+                .collect(),
+            size: std::array::from_fn(|a| size[a]),
+            nearest,
             boundary,
         }
     }
 
-    /// The lattice spacing that gives `packing` for discs of these diameters.
+    /// The lattice unit that gives `packing` for particles of these diameters.
     fn spacing(&self, diameters: &[f64], packing: f64) -> f64 {
-        let area: f64 = diameters
-            .iter()
-            .map(|d| 0.25 * std::f64::consts::PI * d * d)
-            .sum();
-        (area / (packing * self.size[0] * self.size[1])).sqrt()
+        let volume: f64 = diameters.iter().map(|&d| ball_volume(d, D)).sum();
+        // `packing * size[0] * size[1] ...` in that order, as 2D always computed it.
+        root(volume / self.size.iter().fold(packing, |p, s| p * s), D)
     }
 
-    fn box_lengths(&self, diameters: &[f64], packing: f64) -> [f64; DIM] {
+    fn box_lengths(&self, diameters: &[f64], packing: f64) -> [f64; D] {
         let a = self.spacing(diameters, packing);
-        [self.size[0] * a, self.size[1] * a]
+        self.size.map(|s| s * a)
     }
 
-    /// The highest packing with the spacing no less than the largest diameter.
+    /// The highest packing with the nearest-neighbour distance no less than the largest
+    /// diameter.
     fn densest_packing(&self, diameters: &[f64]) -> f64 {
         let d_max = diameters.iter().cloned().fold(0.0, f64::max);
         let a1 = self.spacing(diameters, 1.0);
-        (a1 / d_max).powi(2)
+        (a1 * self.nearest / d_max).powi(D as i32)
     }
 
-    /// The discs on randomly chosen sites (in random order), at `packing` (which must not
+    /// The particles on randomly chosen sites (in random order), at `packing` (which must not
     /// exceed [`Self::densest_packing`]), with velocities at `kT = 1`.
-    fn place(&self, mut discs: Vec<Disc>, packing: f64, rng: &mut impl Rng) -> (Vec<Disc>, SimBox) {
+    fn place(
+        &self,
+        mut discs: Vec<Disc<D>>,
+        packing: f64,
+        rng: &mut impl Rng,
+    ) -> (Vec<Disc<D>>, SimBox<D>) {
         let diameters: Vec<f64> = discs.iter().map(|d| 2.0 * d.radius).collect();
         let a = self.spacing(&diameters, packing);
         let mut order: Vec<usize> = (0..self.sites.len()).collect();
@@ -472,12 +528,80 @@ impl Triangular {
             d.pos = self.sites[k] * a;
         }
         thermal_velocities(&mut discs, 1.0, rng);
-        let lengths = [self.size[0] * a, self.size[1] * a];
         let sim_box = SimBox {
-            lengths,
-            boundaries: [self.boundary; DIM],
+            lengths: self.size.map(|s| s * a),
+            boundaries: [self.boundary; D],
         };
         (discs, sim_box)
+    }
+
+    /// What [`Self::order`] measures, for messages.
+    fn order_name(&self) -> &'static str {
+        if D == 3 {
+            "the FCC density wave |rho_k|"
+        } else {
+            "|psi_6|"
+        }
+    }
+
+    /// The order parameter that tells the lattice from a fluid: in 2D the global
+    /// bond-orientational order `|psi_6|` ([`super::order`]); in 3D the amplitude of the
+    /// lattice's density wave ([`fcc_order`]) for the current cubic cell (the box shrinks
+    /// uniformly, so it still holds `size` cells).
+    fn order(&self, discs: &[Disc<D>], sim_box: &SimBox<D>) -> f64 {
+        if D == 2 {
+            let flat: Vec<Disc> = discs.iter().map(|d| d.with_dim()).collect();
+            let flat_box = SimBox {
+                lengths: [sim_box.lengths[0], sim_box.lengths[1]],
+                boundaries: [sim_box.boundaries[0], sim_box.boundaries[1]],
+            };
+            return psi6(&flat, &flat_box, Neighbours::Nearest(6));
+        }
+        let flat: Vec<Disc<3>> = discs.iter().map(|d| d.with_dim()).collect();
+        let cube = SimBox {
+            lengths: std::array::from_fn(|a| sim_box.lengths[a.min(D - 1)]),
+            boundaries: [sim_box.boundaries[0]; 3],
+        };
+        fcc_order(
+            &flat,
+            &cube,
+            std::array::from_fn(|a| self.size[a.min(D - 1)]),
+        )
+    }
+}
+
+/// The sites of a triangular lattice of at least `m` sites (see [`Lattice`]), and the box
+/// size in spacings.
+fn triangular_sites(m: usize, boundary: Boundary) -> (Vec<[f64; 3]>, [f64; 2]) {
+    let h = 3f64.sqrt() / 2.0;
+    let mut rows = ((m as f64 / h).sqrt().ceil() as usize).max(1);
+    if boundary == Boundary::Periodic && rows % 2 == 1 {
+        rows += 1;
+    }
+    let cols = m.div_ceil(rows).max(1);
+    let (size, x0, y0) = match boundary {
+        Boundary::Periodic => ([cols as f64, rows as f64 * h], 0.25, h / 2.0),
+        Boundary::Walls => ([cols as f64 + 0.5, (rows - 1) as f64 * h + 1.0], 0.5, 0.5),
+    };
+    let sites = (0..rows)
+        .flat_map(|row| {
+            (0..cols).map(move |col| {
+                let shift = if row % 2 == 1 { 0.5 } else { 0.0 };
+                [x0 + col as f64 + shift, y0 + row as f64 * h, 0.0]
+            })
+        })
+        .collect();
+    (sites, size)
+}
+
+/// Refuses a dimension the generators do not make.
+fn check_dim(dim: usize) -> Result<(), Error> {
+    if dim == 2 || dim == 3 {
+        Ok(())
+    } else {
+        Err(Error::Invalid(format!(
+            "fluids and mixtures are made in 2 or 3 dimensions, not {dim}"
+        )))
     }
 }
 
@@ -490,19 +614,26 @@ pub(crate) fn shuffle<T>(v: &mut [T], rng: &mut impl Rng) {
 }
 
 /// A simulation of generated discs; a refusal means a parameter the checks let through.
-fn new_simulation((discs, sim_box): (Vec<Disc>, SimBox), kind: &str) -> Result<Simulation, Error> {
+fn new_simulation<const D: usize>(
+    (discs, sim_box): (Vec<Disc<D>>, SimBox<D>),
+    kind: &str,
+) -> Result<Simulation<D>, Error> {
     Simulation::new(&discs, sim_box, Options::default())
         .map_err(|e| Error::Invalid(format!("{kind}: the generated system is invalid: {e}")))
 }
 
 /// Collisions per disc run so far: `2 x disc-disc collisions / N`.
-fn collisions_per_disc(sim: &Simulation) -> f64 {
+fn collisions_per_disc<const D: usize>(sim: &Simulation<D>) -> f64 {
     2.0 * sim.stats().disc_disc as f64 / sim.len().max(1) as f64
 }
 
 /// Runs until `target` disc-disc collisions have happened in all. Returns false if that took
 /// more than `max_events` events (of any kind) or nothing will ever happen.
-pub(crate) fn run_collisions(sim: &mut Simulation, target: u64, max_events: u64) -> bool {
+pub(crate) fn run_collisions<const D: usize>(
+    sim: &mut Simulation<D>,
+    target: u64,
+    max_events: u64,
+) -> bool {
     let chunk = (sim.len() as u64).max(64);
     let mut events = 0u64;
     while sim.stats().disc_disc < target {
@@ -514,16 +645,23 @@ pub(crate) fn run_collisions(sim: &mut Simulation, target: u64, max_events: u64)
     true
 }
 
-/// Runs until `|psi_6|` is below `threshold`, checking first after `first` collisions per disc
-/// (counted from now) and then after every further one, up to `max`. Returns the collisions
-/// per disc it took, or the last `|psi_6|` if `max` went by first.
-fn settle(sim: &mut Simulation, threshold: f64, first: u32, max: u32) -> Result<f64, f64> {
+/// Runs until the lattice's order parameter ([`Lattice::order`]) is below `threshold`,
+/// checking first after `first` collisions per disc (counted from now) and then after every
+/// further one, up to `max`. Returns the collisions per disc it took, or the last order
+/// parameter if `max` went by first.
+fn settle<const D: usize>(
+    sim: &mut Simulation<D>,
+    lat: &Lattice<D>,
+    threshold: f64,
+    first: u32,
+    max: u32,
+) -> Result<f64, f64> {
     let n = sim.len() as u64;
     let start = sim.stats().disc_disc;
     let mut last = 1.0;
     for k in first..=max.max(first) {
         run_collisions(sim, start + (k as u64 * n).div_ceil(2), u64::MAX);
-        last = psi6(&sim.discs(), sim.sim_box(), Neighbours::Nearest(6));
+        last = lat.order(&sim.discs(), sim.sim_box());
         if last < threshold {
             return Ok(2.0 * (sim.stats().disc_disc - start) as f64 / n as f64);
         }
@@ -531,11 +669,18 @@ fn settle(sim: &mut Simulation, threshold: f64, first: u32, max: u32) -> Result<
     Err(last)
 }
 
-/// Packing fraction `sum pi r^2 / area`.
-pub fn packing_of(discs: &[Disc], sim_box: &SimBox) -> f64 {
-    let area: f64 = discs
-        .iter()
-        .map(|d| std::f64::consts::PI * d.radius * d.radius)
-        .sum();
-    area / sim_box.volume()
+/// Packing fraction: `sum pi r^2 / area` in 2D, `sum 4/3 pi r^3 / volume` in 3D.
+pub fn packing_of<const D: usize>(discs: &[Disc<D>], sim_box: &SimBox<D>) -> f64 {
+    let volume: f64 = if D == 3 {
+        discs
+            .iter()
+            .map(|d| 4.0 / 3.0 * std::f64::consts::PI * d.radius.powi(3))
+            .sum()
+    } else {
+        discs
+            .iter()
+            .map(|d| std::f64::consts::PI * d.radius * d.radius)
+            .sum()
+    };
+    volume / sim_box.volume()
 }

@@ -1,8 +1,10 @@
-//! Discs on a triangular lattice at a chosen packing fraction, with thermal velocities.
+//! Discs on a triangular lattice, or spheres on a face-centred cubic one, at a chosen packing
+//! fraction, with thermal velocities.
 //!
 //! The triangular lattice is the densest packing of equal discs (`pi / (2 sqrt 3) = 0.9069`),
-//! so every fluid density is reachable from it. Melting is the caller's job: run the system for
-//! some collisions per disc.
+//! and the FCC lattice the densest of equal spheres (`pi / (3 sqrt 2) = 0.7405`), so every
+//! fluid density is reachable from them. Melting is the caller's job: run the system for some
+//! collisions per particle.
 
 use rand::{Rng, SeedableRng};
 use rand_distr::StandardNormal;
@@ -14,6 +16,128 @@ use crate::state::{Boundary, Disc, SimBox};
 
 /// Close packing fraction of discs, `pi / (2 sqrt 3)`.
 pub const CLOSE_PACKING: f64 = 0.906_899_682_117_108_9;
+
+/// Close packing fraction of spheres (FCC), `pi / (3 sqrt 2)`.
+pub const CLOSE_PACKING_3D: f64 = 0.740_480_489_693_061;
+
+/// Close packing fraction in `dim` dimensions (2 or 3).
+pub fn close_packing(dim: usize) -> f64 {
+    if dim == 3 {
+        CLOSE_PACKING_3D
+    } else {
+        CLOSE_PACKING
+    }
+}
+
+/// Volume of a `dim`-dimensional ball (2 or 3) of diameter `d`: `pi d^2 / 4` or `pi d^3 / 6`.
+pub fn ball_volume(d: f64, dim: usize) -> f64 {
+    if dim == 3 {
+        std::f64::consts::PI * d * d * d / 6.0
+    } else {
+        0.25 * std::f64::consts::PI * d * d
+    }
+}
+
+/// `x^(1/dim)` for `dim` 2 or 3 (`sqrt` and `cbrt`, exact where `powf` is not).
+pub(crate) fn root(x: f64, dim: usize) -> f64 {
+    if dim == 3 {
+        x.cbrt()
+    } else {
+        x.sqrt()
+    }
+}
+
+/// The sites of a face-centred cubic lattice of at least `m` sites in `k^3` cubic cells (the
+/// smallest cube that holds them), in units of the cubic cell's side, in cell order (so that
+/// the first `m` sites fill whole layers first), and the box size in those units. A periodic
+/// box is `k` cells wide; a walled one keeps half a nearest-neighbour distance (`1 / (2 sqrt 2)`)
+/// clear of each wall.
+pub(crate) fn fcc_sites(m: usize, boundary: Boundary) -> (Vec<[f64; 3]>, [f64; 3]) {
+    let mut k = ((m as f64 / 4.0).cbrt().ceil() as usize).max(1);
+    while 4 * k * k * k < m {
+        k += 1;
+    }
+    let half_nn = 0.25 * std::f64::consts::SQRT_2;
+    let (x0, size) = match boundary {
+        Boundary::Periodic => (0.25, k as f64),
+        Boundary::Walls => (half_nn, k as f64 - 0.5 + 2.0 * half_nn),
+    };
+    const BASIS: [[f64; 3]; 4] = [
+        [0.0, 0.0, 0.0],
+        [0.5, 0.5, 0.0],
+        [0.5, 0.0, 0.5],
+        [0.0, 0.5, 0.5],
+    ];
+    let mut sites = Vec::with_capacity(4 * k * k * k);
+    for z in 0..k {
+        for y in 0..k {
+            for x in 0..k {
+                for b in BASIS {
+                    let c = [x as f64, y as f64, z as f64];
+                    sites.push(std::array::from_fn(|a| x0 + c[a] + b[a]));
+                }
+            }
+        }
+    }
+    (sites, [size; 3])
+}
+
+/// [`lattice_fluid`] in `D` dimensions: discs on a triangular lattice in 2D (exactly
+/// [`lattice_fluid`]), spheres (diameter 1, mass 1) on a face-centred cubic lattice in a cube
+/// in 3D, the first `n` sites filled layer by layer. Velocities Gaussian at `kT = 1`, zero total
+/// momentum.
+///
+/// # Panics
+/// If `D` is not 2 or 3.
+pub fn lattice_fluid_in<const D: usize>(
+    n: usize,
+    packing: f64,
+    boundary: Boundary,
+    seed: u64,
+) -> Result<(Vec<Disc<D>>, SimBox<D>), Error> {
+    assert!(D == 2 || D == 3, "lattices are made in 2 or 3 dimensions");
+    if D == 2 {
+        let (discs, bx) = lattice_fluid(n, packing, boundary, seed)?;
+        return Ok((
+            discs.iter().map(|d| d.with_dim()).collect(),
+            SimBox {
+                lengths: std::array::from_fn(|a| bx.lengths[a]),
+                boundaries: [boundary; D],
+            },
+        ));
+    }
+    if n == 0 {
+        return Err(Error::Invalid(
+            "the number of spheres must be at least 1".into(),
+        ));
+    }
+    if !(packing > 0.0 && packing < CLOSE_PACKING_3D) {
+        return Err(Error::Invalid(format!(
+            "packing fraction {packing} is outside (0, {CLOSE_PACKING_3D:.4})"
+        )));
+    }
+    let (sites, size) = fcc_sites(n, boundary);
+    let volume = n as f64 * ball_volume(1.0, 3);
+    let a = (volume / (packing * size[0] * size[1] * size[2])).cbrt();
+    if a / std::f64::consts::SQRT_2 < 1.0 + 1e-9 {
+        return Err(Error::Invalid(format!(
+            "packing fraction {packing} does not fit {n} spheres on a lattice in this box"
+        )));
+    }
+    let mut discs: Vec<Disc<D>> = sites[..n]
+        .iter()
+        .map(|s| Disc::new(Vector(std::array::from_fn(|k| s[k] * a)), Vector::ZERO, 0.5))
+        .collect();
+    let mut rng = Pcg64Mcg::seed_from_u64(seed);
+    thermal_velocities(&mut discs, 1.0, &mut rng);
+    Ok((
+        discs,
+        SimBox {
+            lengths: std::array::from_fn(|k| size[k] * a),
+            boundaries: [boundary; D],
+        },
+    ))
+}
 
 /// `n` equal discs (diameter 1, mass 1) on a triangular lattice filling a near-square box at
 /// packing fraction `packing`, with Gaussian velocities at `kT = 1`, zero total momentum.
@@ -77,8 +201,8 @@ pub fn lattice_fluid(
 
 /// Draws Maxwell-Boltzmann velocities at temperature `kt` (each component normal with variance
 /// `kT/m`), removes the centre-of-mass velocity and rescales so that `sum m v^2 / 2 = DIM/2 N kT`
-/// exactly (the 2D equipartition value `N kT`).
-pub fn thermal_velocities(discs: &mut [Disc], kt: f64, rng: &mut impl Rng) {
+/// exactly (the equipartition value, `N kT` in 2D).
+pub fn thermal_velocities<const D: usize>(discs: &mut [Disc<D>], kt: f64, rng: &mut impl Rng) {
     if discs.is_empty() {
         return;
     }
@@ -86,7 +210,7 @@ pub fn thermal_velocities(discs: &mut [Disc], kt: f64, rng: &mut impl Rng) {
     let mut m_total = 0.0;
     for d in discs.iter_mut() {
         let s = (kt / d.mass).sqrt();
-        for a in 0..DIM {
+        for a in 0..D {
             let z: f64 = rng.sample(StandardNormal);
             d.vel[a] = s * z;
         }
@@ -102,7 +226,7 @@ pub fn thermal_velocities(discs: &mut [Disc], kt: f64, rng: &mut impl Rng) {
         }
         ke += d.kinetic_energy();
     }
-    let target = 0.5 * DIM as f64 * discs.len() as f64 * kt;
+    let target = 0.5 * D as f64 * discs.len() as f64 * kt;
     if ke > 0.0 {
         let s = (target / ke).sqrt();
         for d in discs.iter_mut() {

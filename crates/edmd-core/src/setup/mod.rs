@@ -9,5 +9,5 @@ pub mod placement;
 
 pub use fluid::{melting_threshold, packing_of, Fluid, MeltReport, Mixture, Sizes};
 pub use generators::{generate, GenKind};
-pub use lattice::{lattice_fluid, thermal_velocities};
-pub use order::{local_psi6, psi6, Neighbours};
+pub use lattice::{lattice_fluid, lattice_fluid_in, thermal_velocities};
+pub use order::{fcc_order, local_psi6, psi6, Neighbours};

@@ -145,6 +145,34 @@ fn mean_phase(bonds: &[(f64, Vector)]) -> [f64; 2] {
     [re / n, im / n]
 }
 
+/// The amplitude of a face-centred cubic lattice's density wave: `sqrt(mean over the four
+/// {111} vectors k of |(1/N) sum_j exp(i k . r_j)|^2)` with `k = 2 pi (+-1, +-1, +-1) / a`,
+/// where the box holds `cells[a]` cubic cells of side `a = L / cells` along each axis. It is 1
+/// on the lattice (whatever its offset), the Debye-Waller factor in a thermal crystal, and
+/// about `1 / sqrt(N)` in a fluid (the 3D counterpart of [`psi6`] for telling them apart).
+pub fn fcc_order(discs: &[Disc<3>], sim_box: &SimBox<3>, cells: [f64; 3]) -> f64 {
+    let k: [f64; 3] =
+        std::array::from_fn(|a| 2.0 * std::f64::consts::PI * cells[a] / sim_box.lengths[a]);
+    let signs = [
+        [1.0, 1.0, 1.0],
+        [1.0, 1.0, -1.0],
+        [1.0, -1.0, 1.0],
+        [-1.0, 1.0, 1.0],
+    ];
+    let n = discs.len().max(1) as f64;
+    let mut sum = 0.0;
+    for s in signs {
+        let (mut re, mut im) = (0.0, 0.0);
+        for d in discs {
+            let phase: f64 = (0..3).map(|a| s[a] * k[a] * d.pos[a]).sum();
+            re += phase.cos();
+            im += phase.sin();
+        }
+        sum += (re * re + im * im) / (n * n);
+    }
+    (sum / signs.len() as f64).sqrt()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -35,6 +35,21 @@ impl<const D: usize> Disc<D> {
         }
     }
 
+    /// The same disc in `E` dimensions: the first `min(D, E)` components of its position and
+    /// velocity, the others zero. Lets code written for one dimension hand discs to code
+    /// written for another (for `E == D` it is a copy).
+    pub fn with_dim<const E: usize>(&self) -> Disc<E> {
+        let cut = |v: Vector<D>| Vector(std::array::from_fn(|a| if a < D { v[a] } else { 0.0 }));
+        Disc {
+            pos: cut(self.pos),
+            vel: cut(self.vel),
+            mass: self.mass,
+            radius: self.radius,
+            colour: self.colour,
+            species: self.species,
+        }
+    }
+
     /// Kinetic energy `m v^2 / 2`.
     pub fn kinetic_energy(&self) -> f64 {
         0.5 * self.mass * self.vel.norm2()

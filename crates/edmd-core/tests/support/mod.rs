@@ -10,27 +10,39 @@ use rand_pcg::Pcg64Mcg;
 /// `[r_min, r_max]`, masses in `[0.5, 4]`, velocity components in `[-1, 1]`. With `walls`, the
 /// discs keep clear of the walls.
 pub fn random_discs(n: usize, l: f64, r_min: f64, r_max: f64, walls: bool, seed: u64) -> Vec<Disc> {
+    random_discs_in::<2>(n, l, r_min, r_max, walls, seed)
+}
+
+/// [`random_discs`] in `D` dimensions, in the cube `[0, l]^D`.
+pub fn random_discs_in<const D: usize>(
+    n: usize,
+    l: f64,
+    r_min: f64,
+    r_max: f64,
+    walls: bool,
+    seed: u64,
+) -> Vec<Disc<D>> {
     let mut rng = Pcg64Mcg::seed_from_u64(seed);
-    let mut discs: Vec<Disc> = Vec::new();
+    let mut discs: Vec<Disc<D>> = Vec::new();
     let mut tries = 0;
     while discs.len() < n {
         tries += 1;
         assert!(tries < 1_000_000, "could not place {n} discs");
         let r = rng.random_range(r_min..=r_max);
         let m = if walls { 0.0 } else { r };
-        let p = Vector::new([rng.random_range(m..l - m), rng.random_range(m..l - m)]);
+        let p = Vector(std::array::from_fn(|_| rng.random_range(m..l - m)));
         let clear = discs.iter().all(|d| {
             let mut dx = d.pos - p;
             if !walls {
-                for a in 0..2 {
+                for a in 0..D {
                     dx[a] -= l * (dx[a] / l).round();
                 }
             }
             dx.norm2() > (d.radius + r).powi(2) * (1.0 + 1e-6)
         });
-        let inside = !walls || (0..2).all(|a| p[a] >= r && p[a] <= l - r);
+        let inside = !walls || (0..D).all(|a| p[a] >= r && p[a] <= l - r);
         if clear && inside {
-            let v = Vector::new([rng.random_range(-1.0..1.0), rng.random_range(-1.0..1.0)]);
+            let v = Vector(std::array::from_fn(|_| rng.random_range(-1.0..1.0)));
             let mut d = Disc::new(p, v, r);
             d.mass = rng.random_range(0.5..4.0);
             discs.push(d);

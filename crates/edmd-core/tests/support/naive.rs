@@ -7,15 +7,15 @@ use edmd_core::{Disc, Vector};
 /// A processed event: `(time, i, Some(j))` for a pair, `(time, i, None)` for a wall.
 pub type NaiveEvent = (f64, usize, Option<usize>);
 
-/// Runs until `t_end` in the walled box `[0, l]^2` with the elastic rule; returns the events.
-pub fn run(discs: &mut [Disc], l: f64, t_end: f64) -> Vec<NaiveEvent> {
+/// Runs until `t_end` in the walled box `[0, l]^D` with the elastic rule; returns the events.
+pub fn run<const D: usize>(discs: &mut [Disc<D>], l: f64, t_end: f64) -> Vec<NaiveEvent> {
     let n = discs.len();
     let mut t = 0.0;
     let mut events = Vec::new();
     loop {
         let mut best = (f64::INFINITY, 0usize, None, 0usize);
         for i in 0..n {
-            for a in 0..2 {
+            for a in 0..D {
                 let (x, v, r) = (discs[i].pos[a], discs[i].vel[a], discs[i].radius);
                 let dt = if v > 0.0 {
                     (l - r - x) / v
@@ -60,7 +60,7 @@ pub fn run(discs: &mut [Disc], l: f64, t_end: f64) -> Vec<NaiveEvent> {
                 let dr = discs[j].pos - discs[i].pos;
                 let dv = discs[j].vel - discs[i].vel;
                 let (mi, mj) = (discs[i].mass, discs[j].mass);
-                let jmp: Vector = dr * (2.0 * mi * mj * dv.dot(dr) / ((mi + mj) * dr.norm2()));
+                let jmp: Vector<D> = dr * (2.0 * mi * mj * dv.dot(dr) / ((mi + mj) * dr.norm2()));
                 discs[i].vel += jmp / mi;
                 discs[j].vel -= jmp / mj;
             }
