@@ -145,10 +145,13 @@ pub struct RunArgs {
 /// `edmd bench`.
 #[derive(Debug, Args)]
 pub struct BenchArgs {
-    /// Number of discs.
+    /// Dimension: 2 (discs) or 3 (spheres).
+    #[arg(long, default_value_t = 2, value_parser = parse_dim)]
+    pub dim: usize,
+    /// Number of discs (spheres in 3D).
     #[arg(long, value_parser = parse_count, allow_negative_numbers = true)]
     pub n: usize,
-    /// Packing fraction (area fraction) of the fluid.
+    /// Packing fraction (area fraction; volume fraction in 3D) of the fluid.
     #[arg(long, value_parser = parse_positive, allow_negative_numbers = true)]
     pub packing: f64,
     /// Boundary conditions.
@@ -166,6 +169,15 @@ pub struct BenchArgs {
     /// Time the portable event loop even where the processor runs the x86-64-v3 one.
     #[arg(long)]
     pub portable: bool,
+}
+
+/// A dimension: 2 or 3.
+pub fn parse_dim(s: &str) -> Result<usize, String> {
+    match s.trim() {
+        "2" => Ok(2),
+        "3" => Ok(3),
+        _ => Err(format!("the dimension must be 2 or 3, found '{s}'")),
+    }
 }
 
 fn parse_number(s: &str) -> Result<f64, String> {

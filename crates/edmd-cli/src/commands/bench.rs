@@ -1,9 +1,10 @@
-//! `edmd bench`: the event loop's speed on a melted lattice fluid, as one JSON line.
+//! `edmd bench`: the event loop's speed on a melted lattice fluid (discs, or spheres with
+//! `--dim 3`), as one JSON line.
 
 use std::time::Instant;
 
 use anyhow::Result;
-use edmd_core::setup::lattice_fluid;
+use edmd_core::setup::lattice::{close_packing, lattice_fluid_in};
 use edmd_core::{Boundary, Options, Simulation};
 use serde::Serialize;
 
@@ -13,6 +14,8 @@ use crate::user_error;
 /// The JSON line.
 #[derive(Debug, Serialize)]
 pub struct BenchResult {
+    /// Dimension (2: discs, 3: spheres).
+    pub dim: usize,
     /// Number of discs.
     pub n: usize,
     /// Packing fraction.
@@ -32,7 +35,7 @@ pub struct BenchResult {
     /// Which copy of the event loop ran: `x86-64-v3` or `portable`.
     pub event_loop: &'static str,
     /// Cells per axis.
-    pub grid: [u32; 2],
+    pub grid: Vec<u32>,
     /// Bytes held by the engine's arrays, per disc.
     pub engine_bytes_per_disc: f64,
     /// Peak resident memory of the process (VmHWM), bytes per disc.
@@ -43,20 +46,26 @@ pub struct BenchResult {
 
 /// Runs the benchmark.
 pub fn run(args: &BenchArgs) -> Result<()> {
+    let result = match args.dim {
+        3 => bench::<3>(args)?,
+        _ => bench::<2>(args)?,
+    };
+    crate::print_line(&serde_json::to_string(&result)?);
+    Ok(())
+}
+
+/// The benchmark in `D` dimensions.
+fn bench<const D: usize>(args: &BenchArgs) -> Result<BenchResult> {
     let boundary = match args.boundary {
         BoundaryArg::Periodic => Boundary::Periodic,
         BoundaryArg::Walls => Boundary::Walls,
     };
     use crate::commands::experiment::common::{check_count, check_n, check_packings};
     check_n("bench", args.n, 2)?;
-    check_packings(
-        "bench",
-        &[args.packing],
-        edmd_core::setup::lattice::CLOSE_PACKING,
-    )?;
+    check_packings("bench", &[args.packing], close_packing(D))?;
     check_count("bench", "melt", args.melt, 0, 100_000)?;
     check_count("bench", "collisions", args.collisions, 1, 100_000)?;
-    let (discs, sim_box) = match lattice_fluid(args.n, args.packing, boundary, args.seed) {
+    let (discs, sim_box) = match lattice_fluid_in::<D>(args.n, args.packing, boundary, args.seed) {
         Ok(x) => x,
         Err(e) => return user_error(format!("bench: {e}")),
     };
@@ -80,8 +89,8 @@ pub fn run(args: &BenchArgs) -> Result<()> {
     let collisions = after.disc_disc - before.disc_disc;
     let events = (after.disc_disc + after.wall + after.cell_crossing)
         - (before.disc_disc + before.wall + before.cell_crossing);
-    let g = sim.grid_dims();
     let result = BenchResult {
+        dim: D,
         n: args.n,
         packing: args.packing,
         boundary: match boundary {
@@ -94,13 +103,12 @@ pub fn run(args: &BenchArgs) -> Result<()> {
         seconds,
         collisions_per_second: collisions as f64 / seconds,
         event_loop: if v3 { "x86-64-v3" } else { "portable" },
-        grid: [g[0], g[1]],
+        grid: sim.grid_dims().to_vec(),
         engine_bytes_per_disc: sim.memory_bytes() as f64 / args.n as f64,
         peak_rss_bytes_per_disc: peak_rss_bytes().map(|b| b as f64 / args.n as f64),
         relative_energy_change: (sim.kinetic_energy() - e0) / e0,
     };
-    crate::print_line(&serde_json::to_string(&result)?);
-    Ok(())
+    Ok(result)
 }
 
 /// VmHWM from /proc/self/status (Linux), in bytes.
