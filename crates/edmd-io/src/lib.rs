@@ -2,7 +2,8 @@
 //!
 //! - [`course`]: the "Collisions" course format (`N`, `R`, `Lx Ly`, then `x y u v` per disc).
 //! - [`princeton`]: the Princeton CollisionSystem format (`N`, then
-//!   `rx ry vx vy radius mass r g b` per disc, in the unit box with walls).
+//!   `rx ry vx vy radius mass r g b` per disc, in the unit box with walls), with edmd's
+//!   extension, which includes 3D files of spheres (`# edmd dim 3`).
 //! - [`xyz`]: extended XYZ trajectory frames, as read by OVITO and ASE.
 //!
 //! Readers never panic on bad input: they return a [`ParseError`] naming the line and what is
@@ -20,13 +21,13 @@ pub use text::ParseError;
 
 use edmd_core::{Barrier, Disc, SimBox};
 
-/// A system read from a file, with the line each disc came from.
+/// A system read from a file, with the line each disc came from (`D = 3` for spheres).
 #[derive(Clone, Debug, PartialEq)]
-pub struct LoadedSystem {
+pub struct LoadedSystem<const D: usize = 2> {
     /// The discs, in file order.
-    pub discs: Vec<Disc>,
+    pub discs: Vec<Disc<D>>,
     /// The box.
-    pub sim_box: SimBox,
+    pub sim_box: SimBox<D>,
     /// Internal barriers (Princeton extension).
     pub barriers: Vec<Barrier>,
     /// 1-based line number of each disc.
@@ -59,7 +60,7 @@ pub fn detect(text: &str) -> Option<Format> {
     }
 }
 
-/// Reads `text` in `format`.
+/// Reads `text` in `format`, as a 2D system (a 3D file is an error saying so).
 pub fn parse(text: &str, format: Format) -> Result<LoadedSystem, ParseError> {
     match format {
         Format::Course => course::parse(text).map(|c| c.into_loaded()),
@@ -67,17 +68,67 @@ pub fn parse(text: &str, format: Format) -> Result<LoadedSystem, ParseError> {
     }
 }
 
-/// Writes discs in `format` (the course format keeps only the first radius, the box lengths and
-/// no barriers: check [`course::fits`] first).
-pub fn write(
+/// A system of either dimension, as the file declares it.
+#[derive(Clone, Debug, PartialEq)]
+pub enum AnyLoaded {
+    /// Discs.
+    Two(LoadedSystem<2>),
+    /// Spheres (`# edmd dim 3`).
+    Three(LoadedSystem<3>),
+}
+
+impl AnyLoaded {
+    /// 2 or 3.
+    pub fn dim(&self) -> usize {
+        match self {
+            AnyLoaded::Two(_) => 2,
+            AnyLoaded::Three(_) => 3,
+        }
+    }
+}
+
+/// The dimension `text` declares in `format`: the course format is 2D; a Princeton file is 3D
+/// with a `# edmd dim 3` directive.
+pub fn dim_of(text: &str, format: Format) -> Result<usize, ParseError> {
+    match format {
+        Format::Course => Ok(2),
+        Format::Princeton(_) => princeton::declared_dim(text),
+    }
+}
+
+/// Reads `text` in `format`, in the dimension the file declares.
+pub fn parse_any(text: &str, format: Format) -> Result<AnyLoaded, ParseError> {
+    match (dim_of(text, format)?, format) {
+        (3, Format::Princeton(order)) => {
+            princeton::parse_in::<3>(text, order).map(AnyLoaded::Three)
+        }
+        _ => parse(text, format).map(AnyLoaded::Two),
+    }
+}
+
+/// Writes discs (or spheres) in `format`. The course format is 2D and keeps only the first
+/// radius, the box lengths and no barriers: check [`course::fits`] first; a 3D system in it is
+/// an `InvalidInput` error.
+pub fn write<const D: usize>(
     out: &mut impl std::io::Write,
-    discs: &[Disc],
-    sim_box: &SimBox,
+    discs: &[Disc<D>],
+    sim_box: &SimBox<D>,
     barriers: &[Barrier],
     format: Format,
 ) -> std::io::Result<()> {
     match format {
-        Format::Course => course::write(out, discs, sim_box),
+        Format::Course if D == 2 => {
+            let flat: Vec<Disc> = discs.iter().map(|d| d.with_dim()).collect();
+            let flat_box = SimBox {
+                lengths: [sim_box.lengths[0], sim_box.lengths[1]],
+                boundaries: [sim_box.boundaries[0], sim_box.boundaries[1]],
+            };
+            course::write(out, &flat, &flat_box)
+        }
+        Format::Course => Err(std::io::Error::new(
+            std::io::ErrorKind::InvalidInput,
+            "the course format holds 2D systems only",
+        )),
         Format::Princeton(order) => princeton::write(out, discs, sim_box, barriers, order),
     }
 }

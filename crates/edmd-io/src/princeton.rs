@@ -18,7 +18,12 @@
 //!   - `# edmd barrier AXIS POSITION [door LO HI [demon FAST SLOW]]`: an internal wall across
 //!     the box perpendicular to axis `x` or `y` at `POSITION`, with an optional door and demon
 //!     (see `edmd_core::Barrier`); repeatable;
-//! - an optional tenth column on any disc line: the species, a whole number (default 0).
+//! - an optional tenth column on any disc line: the species, a whole number (default 0);
+//! - `# edmd dim 3` (before the first disc line): a 3D file of spheres. Disc lines are then
+//!   `rx ry rz vx vy vz radius mass r g b [species]` (mass before radius with
+//!   [`ColumnOrder::MassRadius`]), the box defaults to the unit cube with walls,
+//!   `# edmd box LX LY LZ` takes three lengths and `# edmd boundary` one word or three;
+//!   barriers are 2D only. `# edmd dim 2` is allowed and changes nothing.
 
 use edmd_core::{Barrier, Boundary, Demon, Disc, SimBox, Vector};
 
@@ -35,32 +40,113 @@ pub enum ColumnOrder {
     MassRadius,
 }
 
-/// Reads the Princeton format.
+/// Reads the Princeton format: a 2D file (a file with `# edmd dim 3` is refused with a line
+/// saying so; read it with [`parse_in`]`::<3>` or [`crate::parse_any`]).
 pub fn parse(text: &str, order: ColumnOrder) -> Result<LoadedSystem, ParseError> {
+    parse_in::<2>(text, order)
+}
+
+/// The dimension a Princeton file declares: 3 with a `# edmd dim 3` directive, else 2. The
+/// directive must come before the first disc line, at most once.
+pub fn declared_dim(text: &str) -> Result<usize, ParseError> {
+    let mut lines = Lines::new(text);
+    let mut data_lines = 0;
+    let mut seen = 0;
+    loop {
+        let before = lines.directives.len();
+        let next = lines.next_fields();
+        for (line, w) in &lines.directives[before..] {
+            if w.first() != Some(&"dim") {
+                continue;
+            }
+            if data_lines >= 2 {
+                return Err(err(
+                    *line,
+                    "'# edmd dim' must come before the first disc line",
+                ));
+            }
+            if seen > 0 {
+                return Err(err(
+                    *line,
+                    format!("a second '# edmd dim' line (the first is line {seen}); give it once"),
+                ));
+            }
+            seen = *line;
+        }
+        if next.is_none() || data_lines >= 2 {
+            break;
+        }
+        data_lines += 1;
+    }
+    let Some((line, w)) = lines
+        .directives
+        .iter()
+        .find(|(_, w)| w.first() == Some(&"dim"))
+    else {
+        return Ok(2);
+    };
+    match &w[1..] {
+        ["2"] => Ok(2),
+        ["3"] => Ok(3),
+        _ => Err(err(
+            *line,
+            format!(
+                "expected '# edmd dim 2' or '# edmd dim 3', found '# edmd {}'",
+                w.join(" ")
+            ),
+        )),
+    }
+}
+
+/// Reads a Princeton file of dimension `D` (2 or 3): `rx ry [rz] vx vy [vz] radius mass r g b
+/// [species]` per disc (see the module doc). A file that declares another dimension is an
+/// error at its `dim` directive (or at line 1 for a 2D file read as 3D).
+pub fn parse_in<const D: usize>(
+    text: &str,
+    order: ColumnOrder,
+) -> Result<LoadedSystem<D>, ParseError> {
+    let declared = declared_dim(text)?;
+    if declared != D {
+        let line = dim_line(text).unwrap_or(1);
+        return Err(err(
+            line,
+            if declared == 3 {
+                "this is a 3D file ('# edmd dim 3'); this reader takes 2D files".to_string()
+            } else {
+                format!("this is a 2D file (no '# edmd dim 3' line); a {D}D file was expected")
+            },
+        ));
+    }
     let mut lines = Lines::new(text);
     let n = count(&mut lines)?;
     let (ir, im) = match order {
-        ColumnOrder::RadiusMass => (4, 5),
-        ColumnOrder::MassRadius => (5, 4),
+        ColumnOrder::RadiusMass => (2 * D, 2 * D + 1),
+        ColumnOrder::MassRadius => (2 * D + 1, 2 * D),
     };
-    let mut names = ["rx", "ry", "vx", "vy", "", "", "r", "g", "b"];
+    let mut names: Vec<&str> = if D == 3 {
+        vec!["rx", "ry", "rz", "vx", "vy", "vz", "", "", "r", "g", "b"]
+    } else {
+        vec!["rx", "ry", "vx", "vy", "", "", "r", "g", "b"]
+    };
     names[ir] = "radius";
     names[im] = "mass";
+    let columns = names.len();
     let mut discs = Vec::with_capacity(n.min(1 << 24));
     let mut at = Vec::with_capacity(n.min(1 << 24));
     for k in 0..n {
         let (line, f) = lines.expect_fields(&format!("disc {} of {n}", k + 1))?;
-        if f.len() != 9 && f.len() != 10 {
+        if f.len() != columns && f.len() != columns + 1 {
             return Err(err(
                 line,
                 format!(
-                    "expected 9 fields ({}) or 10 (with species), found {}",
+                    "expected {columns} fields ({}) or {} (with species), found {}",
                     names.join(" "),
+                    columns + 1,
                     f.len()
                 ),
             ));
         }
-        let species = match f.get(9) {
+        let species = match f.get(columns) {
             None => 0,
             Some(w) => w.parse::<u16>().map_err(|_| {
                 err(
@@ -69,19 +155,19 @@ pub fn parse(text: &str, order: ColumnOrder) -> Result<LoadedSystem, ParseError>
                 )
             })?,
         };
-        let mut x = [0.0; 6];
-        for c in 0..6 {
+        let mut x = [0.0; 8];
+        for c in 0..2 * D + 2 {
             x[c] = number(line, f[c], names[c])?;
         }
         let mut colour = [0u8; 3];
         for c in 0..3 {
-            colour[c] = f[6 + c].parse::<u8>().map_err(|_| {
+            let w = f[2 * D + 2 + c];
+            colour[c] = w.parse::<u8>().map_err(|_| {
                 err(
                     line,
                     format!(
-                        "colour {} must be a whole number from 0 to 255, found '{}'",
-                        names[6 + c],
-                        f[6 + c]
+                        "colour {} must be a whole number from 0 to 255, found '{w}'",
+                        names[2 * D + 2 + c],
                     ),
                 )
             })?;
@@ -94,8 +180,8 @@ pub fn parse(text: &str, order: ColumnOrder) -> Result<LoadedSystem, ParseError>
             return Err(err(line, format!("mass must be > 0, found {mass}")));
         }
         discs.push(Disc {
-            pos: Vector::new([x[0], x[1]]),
-            vel: Vector::new([x[2], x[3]]),
+            pos: Vector(std::array::from_fn(|a| x[a])),
+            vel: Vector(std::array::from_fn(|a| x[D + a])),
             mass,
             radius,
             colour,
@@ -104,7 +190,7 @@ pub fn parse(text: &str, order: ColumnOrder) -> Result<LoadedSystem, ParseError>
         at.push(line);
     }
     expect_end(&mut lines, n)?;
-    let (sim_box, barriers) = directives(&lines.directives)?;
+    let (sim_box, barriers) = directives::<D>(&lines.directives)?;
     Ok(LoadedSystem {
         discs,
         sim_box,
@@ -114,9 +200,22 @@ pub fn parse(text: &str, order: ColumnOrder) -> Result<LoadedSystem, ParseError>
     })
 }
 
+/// The line of the first `# edmd dim` directive, if any.
+fn dim_line(text: &str) -> Option<usize> {
+    let mut lines = Lines::new(text);
+    while lines.next_fields().is_some() {}
+    lines
+        .directives
+        .iter()
+        .find(|(_, w)| w.first() == Some(&"dim"))
+        .map(|(l, _)| *l)
+}
+
 /// Interprets the `# edmd` directives.
-fn directives(list: &[(usize, Vec<&str>)]) -> Result<(SimBox, Vec<Barrier>), ParseError> {
-    let mut sim_box = SimBox::unit();
+fn directives<const D: usize>(
+    list: &[(usize, Vec<&str>)],
+) -> Result<(SimBox<D>, Vec<Barrier>), ParseError> {
+    let mut sim_box = SimBox::<D>::walls([1.0; D]);
     let mut barriers = Vec::new();
     // The line of the first `box` and `boundary` directive: a second one is refused rather than
     // silently replacing the first.
@@ -137,11 +236,11 @@ fn directives(list: &[(usize, Vec<&str>)]) -> Result<(SimBox, Vec<Barrier>), Par
         match w.first().copied() {
             Some("box") => {
                 once(&mut seen_box, "box")?;
-                let l = crate::text::numbers(line, &w[1..], &["LX", "LY"])?;
+                let l = crate::text::numbers(line, &w[1..], &["LX", "LY", "LZ"][..D])?;
                 if l.iter().any(|&x| x <= 0.0) {
                     return Err(err(line, "box lengths must be > 0"));
                 }
-                sim_box.lengths = [l[0], l[1]];
+                sim_box.lengths = std::array::from_fn(|a| l[a]);
             }
             Some("boundary") => {
                 once(&mut seen_boundary, "boundary")?;
@@ -154,16 +253,24 @@ fn directives(list: &[(usize, Vec<&str>)]) -> Result<(SimBox, Vec<Barrier>), Par
                     )),
                 };
                 match &w[1..] {
-                    [b] => sim_box.boundaries = [kind(b)?; 2],
-                    [x, y] => sim_box.boundaries = [kind(x)?, kind(y)?],
+                    [b] => sim_box.boundaries = [kind(b)?; D],
+                    each if each.len() == D => {
+                        for a in 0..D {
+                            sim_box.boundaries[a] = kind(each[a])?;
+                        }
+                    }
+                    _ if D == 3 => return Err(err(line, "expected 'boundary X [Y Z]'")),
                     _ => return Err(err(line, "expected 'boundary X [Y]'")),
                 }
             }
+            Some("barrier") if D != 2 => return Err(err(line, "barriers exist in 2D files only")),
             Some("barrier") => barriers.push(barrier(line, &w[1..])?),
+            // Read before the discs by `declared_dim`.
+            Some("dim") => {}
             Some(other) => {
                 return Err(err(
                     line,
-                    format!("unknown edmd directive '{other}' (box, boundary, barrier)"),
+                    format!("unknown edmd directive '{other}' (dim, box, boundary, barrier)"),
                 ))
             }
             None => return Err(err(line, "empty edmd directive")),
@@ -208,24 +315,27 @@ fn barrier(line: usize, w: &[&str]) -> Result<Barrier, ParseError> {
 
 /// Writes discs in the Princeton format, numbers in their shortest exact form. Directives are
 /// written only when the box, boundaries or barriers differ from the plain format's, and the
-/// species column only when some species is not 0, so plain systems give plain files.
-pub fn write(
+/// species column only when some species is not 0, so plain systems give plain files. A 3D
+/// system gets `# edmd dim 3` right after the count.
+pub fn write<const D: usize>(
     out: &mut impl std::io::Write,
-    discs: &[Disc],
-    sim_box: &SimBox,
+    discs: &[Disc<D>],
+    sim_box: &SimBox<D>,
     barriers: &[Barrier],
     order: ColumnOrder,
 ) -> std::io::Result<()> {
     writeln!(out, "{}", discs.len())?;
-    if sim_box.lengths != [1.0, 1.0] {
-        writeln!(
-            out,
-            "# edmd box {} {}",
-            exact(sim_box.lengths[0]),
-            exact(sim_box.lengths[1])
-        )?;
+    if D != 2 {
+        writeln!(out, "# edmd dim {D}")?;
     }
-    if sim_box.boundaries != [Boundary::Walls; 2] {
+    if sim_box.lengths != [1.0; D] {
+        write!(out, "# edmd box")?;
+        for l in sim_box.lengths {
+            write!(out, " {}", exact(l))?;
+        }
+        writeln!(out)?;
+    }
+    if sim_box.boundaries != [Boundary::Walls; D] {
         let name = |b: Boundary| {
             if b == Boundary::Walls {
                 "walls"
@@ -233,12 +343,11 @@ pub fn write(
                 "periodic"
             }
         };
-        writeln!(
-            out,
-            "# edmd boundary {} {}",
-            name(sim_box.boundaries[0]),
-            name(sim_box.boundaries[1])
-        )?;
+        write!(out, "# edmd boundary")?;
+        for b in sim_box.boundaries {
+            write!(out, " {}", name(b))?;
+        }
+        writeln!(out)?;
     }
     for b in barriers {
         write!(
@@ -261,13 +370,15 @@ pub fn write(
             ColumnOrder::RadiusMass => (d.radius, d.mass),
             ColumnOrder::MassRadius => (d.mass, d.radius),
         };
+        for (k, x) in d.pos.0.iter().chain(&d.vel.0).enumerate() {
+            if k > 0 {
+                write!(out, " ")?;
+            }
+            write!(out, "{}", exact(*x))?;
+        }
         write!(
             out,
-            "{} {} {} {} {} {} {} {} {}",
-            exact(d.pos[0]),
-            exact(d.pos[1]),
-            exact(d.vel[0]),
-            exact(d.vel[1]),
+            " {} {} {} {} {}",
             exact(a),
             exact(b),
             d.colour[0],
@@ -414,6 +525,134 @@ mod tests {
             let e = parse(text, ColumnOrder::default()).unwrap_err();
             assert_eq!(e.line, *line, "{text:?}: {e}");
             assert!(e.message.contains(what), "{text:?}: {e}");
+        }
+    }
+
+    const SPHERES: &str = "2\n# edmd dim 3\n# edmd box 4 5 6\n# edmd boundary periodic walls periodic\n1 1 1 0.1 -0.2 0.3 0.5 2 10 20 30\n3 3 3 0 0 -1 0.25 1 0 0 0 7\n";
+
+    #[test]
+    fn spheres_are_read_and_round_trip_bit_for_bit() {
+        assert_eq!(declared_dim(SPHERES), Ok(3));
+        let s = parse_in::<3>(SPHERES, ColumnOrder::RadiusMass).unwrap();
+        assert_eq!(s.sim_box.lengths, [4.0, 5.0, 6.0]);
+        assert_eq!(
+            s.sim_box.boundaries,
+            [Boundary::Periodic, Boundary::Walls, Boundary::Periodic]
+        );
+        assert_eq!(s.discs[0].vel.0, [0.1, -0.2, 0.3]);
+        assert_eq!((s.discs[0].radius, s.discs[0].mass), (0.5, 2.0));
+        assert_eq!(s.discs[1].species, 7);
+        assert_eq!(s.lines, vec![5, 6]);
+        // Awkward numbers survive the trip exactly.
+        let mut discs = s.discs.clone();
+        discs[0].pos.0 = [0.1 + 0.2, 1.0 / 3.0, std::f64::consts::PI];
+        let mut out = Vec::new();
+        write(&mut out, &discs, &s.sim_box, &[], ColumnOrder::RadiusMass).unwrap();
+        let text = String::from_utf8(out).unwrap();
+        assert!(text.starts_with("2\n# edmd dim 3\n"), "{text}");
+        let back = parse_in::<3>(&text, ColumnOrder::RadiusMass).unwrap();
+        assert_eq!(back.discs, discs);
+        assert_eq!(back.sim_box, s.sim_box);
+        // The unit cube with walls is the default and is not written.
+        let mut out = Vec::new();
+        write(
+            &mut out,
+            &discs,
+            &SimBox::walls([1.0; 3]),
+            &[],
+            ColumnOrder::MassRadius,
+        )
+        .unwrap();
+        let text = String::from_utf8(out).unwrap();
+        assert!(
+            !text.contains("box") && !text.contains("boundary"),
+            "{text}"
+        );
+        assert_eq!(
+            parse_in::<3>(&text, ColumnOrder::MassRadius).unwrap().discs,
+            discs
+        );
+    }
+
+    #[test]
+    fn a_file_read_in_the_wrong_dimension_says_so() {
+        let e = parse(SPHERES, ColumnOrder::RadiusMass).unwrap_err();
+        assert_eq!(e.line, 2);
+        assert!(e.message.contains("3D file"), "{e}");
+        let e = parse_in::<3>(TWO, ColumnOrder::RadiusMass).unwrap_err();
+        assert!(e.message.contains("2D file"), "{e}");
+        assert_eq!(declared_dim(TWO), Ok(2));
+        // `dim 2` is allowed and changes nothing.
+        let two = format!("# edmd dim 2\n{TWO}");
+        assert_eq!(parse(&two, ColumnOrder::RadiusMass).unwrap().discs.len(), 2);
+    }
+
+    #[test]
+    fn malformed_3d_files_name_the_line() {
+        let cases: &[(&str, usize, &str)] = &[
+            // A 2D disc line in a 3D file.
+            (
+                "1\n# edmd dim 3\n0.5 0.5 0 0 0.1 1 0 0 0\n",
+                3,
+                "expected 11 fields",
+            ),
+            // Too many fields.
+            (
+                "1\n# edmd dim 3\n0.5 0.5 0.5 0 0 0 0.1 1 0 0 0 1 1\n",
+                3,
+                "expected 11 fields",
+            ),
+            // The directive after the first disc line.
+            (
+                "2\n0.5 0.5 0.5 0 0 0 0.1 1 0 0 0\n# edmd dim 3\n0.2 0.2 0.2 0 0 0 0.1 1 0 0 0\n",
+                3,
+                "before the first disc",
+            ),
+            (
+                "1\n# edmd dim 4\n0.5 0.5 0.5 0 0 0 0.1 1 0 0 0\n",
+                2,
+                "dim 2' or '# edmd dim 3",
+            ),
+            (
+                "1\n# edmd dim\n0.5 0.5 0.5 0 0 0 0.1 1 0 0 0\n",
+                2,
+                "dim 2' or '# edmd dim 3",
+            ),
+            (
+                "1\n# edmd dim 3\n# edmd dim 3\n0.5 0.5 0.5 0 0 0 0.1 1 0 0 0\n",
+                3,
+                "second '# edmd dim'",
+            ),
+            (
+                "1\n# edmd dim 3\n# edmd box 2 2\n0.5 0.5 0.5 0 0 0 0.1 1 0 0 0\n",
+                3,
+                "expected 3 numbers",
+            ),
+            (
+                "1\n# edmd dim 3\n# edmd boundary walls periodic\n0.5 0.5 0.5 0 0 0 0.1 1 0 0 0\n",
+                3,
+                "boundary X [Y Z]",
+            ),
+            (
+                "1\n# edmd dim 3\n# edmd barrier x 0.5\n0.5 0.5 0.5 0 0 0 0.1 1 0 0 0\n",
+                3,
+                "2D files only",
+            ),
+            (
+                "1\n# edmd dim 3\n0.5 0.5 zz 0 0 0 0.1 1 0 0 0\n",
+                3,
+                "rz is not a number",
+            ),
+            (
+                "1\n# edmd dim 3\n0.5 0.5 0.5 0 0 0 0.1 1 0 0 300\n",
+                3,
+                "colour b",
+            ),
+        ];
+        for (text, line, words) in cases {
+            let e = parse_in::<3>(text, ColumnOrder::RadiusMass).unwrap_err();
+            assert_eq!(e.line, *line, "{text:?}: {e}");
+            assert!(e.message.contains(words), "{text:?}: {e}");
         }
     }
 }
