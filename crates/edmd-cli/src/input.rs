@@ -5,7 +5,7 @@ use std::io::Read;
 use anyhow::Result;
 use edmd_core::{Error as EngineError, Options, Simulation};
 use edmd_io::princeton::ColumnOrder;
-use edmd_io::{Format, LoadedSystem};
+use edmd_io::{AnyLoaded, Format, LoadedSystem};
 
 use crate::user_error;
 
@@ -91,36 +91,57 @@ fn scan(path: &str, text: &[u8], line: &mut usize, line_len: &mut usize) -> Resu
     Ok(())
 }
 
-/// Parses a file in `format` (`None`: detect; a detected Princeton file is read with `order`).
+/// The format to read `text` in (`None`: detect; a detected Princeton file is read with
+/// `order`).
+fn resolve(text: &str, format: Option<Format>, order: ColumnOrder) -> Format {
+    match format.or_else(|| edmd_io::detect(text)) {
+        Some(Format::Princeton(_)) => Format::Princeton(order),
+        Some(f) => f,
+        // Too short to tell: the Princeton reader names the problem (empty, bad count, ...).
+        None => Format::Princeton(order),
+    }
+}
+
+/// Parses a 2D file in `format` (`None`: detect; a detected Princeton file is read with
+/// `order`); a 3D file is an error naming its `dim` line.
 pub fn load(
     path: &str,
     text: &str,
     format: Option<Format>,
     order: ColumnOrder,
 ) -> Result<LoadedSystem> {
-    let format = match format.or_else(|| edmd_io::detect(text)) {
-        Some(Format::Princeton(_)) => Format::Princeton(order),
-        Some(f) => f,
-        // Too short to tell: the Princeton reader names the problem (empty, bad count, ...).
-        None => Format::Princeton(order),
-    };
-    edmd_io::parse(text, format)
+    edmd_io::parse(text, resolve(text, format, order))
+        .or_else(|e| user_error(format!("{path}:{}: {}", e.line, e.message)))
+}
+
+/// [`load`] in the dimension the file declares (2, or 3 with `# edmd dim 3`).
+pub fn load_any(
+    path: &str,
+    text: &str,
+    format: Option<Format>,
+    order: ColumnOrder,
+) -> Result<AnyLoaded> {
+    edmd_io::parse_any(text, resolve(text, format, order))
         .or_else(|e| user_error(format!("{path}:{}: {}", e.line, e.message)))
 }
 
 /// Builds the simulation, translating engine refusals into messages naming lines.
-pub fn build(path: &str, sys: &LoadedSystem, options: Options) -> Result<Simulation> {
+pub fn build<const D: usize>(
+    path: &str,
+    sys: &LoadedSystem<D>,
+    options: Options,
+) -> Result<Simulation<D>> {
     build_with_hint(path, sys, options, true)
 }
 
 /// [`build`], with or without the hint that `--allow-overlaps` runs a refused file (the
 /// `particles` program has no such option, so it points to `edmd run` instead).
-pub fn build_with_hint(
+pub fn build_with_hint<const D: usize>(
     path: &str,
-    sys: &LoadedSystem,
+    sys: &LoadedSystem<D>,
     options: Options,
     allow_overlaps_option: bool,
-) -> Result<Simulation> {
+) -> Result<Simulation<D>> {
     let (overlap_hint, outside_hint) = if allow_overlaps_option {
         (
             "--allow-overlaps runs it anyway",

@@ -9,4 +9,5 @@ mod experiments;
 mod particles;
 mod render;
 mod run;
+mod three_d;
 mod trajectory;

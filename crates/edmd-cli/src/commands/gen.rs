@@ -27,6 +27,9 @@ pub struct GenArgs {
     /// Output file (`-` for standard output).
     #[arg(long, short, value_name = "FILE")]
     pub output: String,
+    /// Dimension: 2 (discs) or 3 (spheres; fluid and mixture only).
+    #[arg(long, default_value_t = 2, value_parser = crate::args::parse_dim)]
+    pub dim: usize,
     /// Random seed: the same seed gives the same file.
     #[arg(long, default_value_t = 1, allow_negative_numbers = true)]
     pub seed: u64,
@@ -89,6 +92,9 @@ pub fn run(args: &GenArgs) -> Result<()> {
             GenKind::NAMES.join(", ")
         ));
     };
+    if args.dim == 3 {
+        return run_3d(kind, args);
+    }
     apply(&mut kind, args)?;
     check_cost(&kind)?;
     let system =
@@ -104,6 +110,45 @@ pub fn run(args: &GenArgs) -> Result<()> {
     } else {
         Format::Princeton(ColumnOrder::RadiusMass)
     };
+    write_system(&system, format, args)?;
+    Ok(())
+}
+
+/// `edmd gen fluid|mixture --dim 3`: spheres, written as a 3D Princeton file.
+fn run_3d(mut kind: GenKind, args: &GenArgs) -> Result<()> {
+    // The 2D defaults (0.6 and 0.7) are above what spheres allow: 0.45 is a dense fluid, 0.5
+    // a dense mixture.
+    match &mut kind {
+        GenKind::Fluid(k) => k.packing = 0.45,
+        GenKind::Mixture(k) => k.packing = 0.5,
+        _ => {
+            return user_error(format!(
+                "gen {}: --dim 3 makes fluids and mixtures only",
+                args.kind
+            ))
+        }
+    }
+    if args.course {
+        return user_error("gen: the course format holds 2D systems only (--course with --dim 3)");
+    }
+    apply(&mut kind, args)?;
+    check_cost(&kind)?;
+    let made = match &kind {
+        GenKind::Fluid(k) => k.generate_in::<3>(args.seed),
+        GenKind::Mixture(k) => k.generate_in::<3>(args.seed),
+        _ => unreachable!("checked above"),
+    };
+    let (system, _) = made.or_else(|e| user_error(format!("gen {}: {e}", args.kind)))?;
+    write_system(&system, Format::Princeton(ColumnOrder::RadiusMass), args)?;
+    Ok(())
+}
+
+/// Writes a generated system to `args.output` (atomically) or standard output.
+fn write_system<const D: usize>(
+    system: &edmd_core::System<D>,
+    format: Format,
+    args: &GenArgs,
+) -> Result<()> {
     if args.output == "-" {
         let mut out = std::io::stdout().lock();
         edmd_io::write(
@@ -125,8 +170,9 @@ pub fn run(args: &GenArgs) -> Result<()> {
         )?;
         f.commit()?;
         eprintln!(
-            "edmd gen: {} discs ({}) written to {}",
+            "edmd gen: {} {} ({}) written to {}",
             system.discs.len(),
+            if D == 3 { "spheres" } else { "discs" },
             args.kind,
             args.output
         );

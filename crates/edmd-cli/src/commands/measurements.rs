@@ -22,7 +22,7 @@ pub enum Measure {
     Pressure,
     /// Collision frequency; free path and free time histograms and means.
     Collisions,
-    /// Speed histogram against the 2D Maxwell-Boltzmann (Rayleigh) law, with a KS test.
+    /// Speed histogram against the Maxwell-Boltzmann law (Rayleigh in 2D), with a KS test.
     Speeds,
     /// Mean square displacement of all discs and the diffusion coefficient.
     Msd,
@@ -49,18 +49,18 @@ impl Measure {
 }
 
 /// The attached measurements.
-pub struct Measurements {
+pub struct Measurements<const D: usize = 2> {
     temperature: Option<Temperature>,
     pressure: Option<Pressure>,
     collisions: Option<Collisions>,
     speeds: Option<Speeds>,
-    msd: Option<Diffusion>,
+    msd: Option<Diffusion<D>>,
     species: Option<SpeciesHalves>,
 }
 
-impl Measurements {
+impl<const D: usize> Measurements<D> {
     /// Starts the chosen measurements on `sim` at its current time.
-    pub fn new(sim: &Simulation, which: &[Measure]) -> Self {
+    pub fn new(sim: &Simulation<D>, which: &[Measure]) -> Self {
         let has = |m| which.contains(&m);
         let kt = kinetic_temperature(sim).max(f64::MIN_POSITIVE);
         let m_min = (0..sim.len())
@@ -85,7 +85,7 @@ impl Measurements {
     }
 
     /// Takes a sample of every measurement at the simulation's current time.
-    pub fn sample(&mut self, sim: &Simulation) {
+    pub fn sample(&mut self, sim: &Simulation<D>) {
         if let Some(m) = &mut self.temperature {
             m.sample(sim);
         }
@@ -107,7 +107,7 @@ impl Measurements {
     }
 
     /// Writes the CSV files into `dir` and returns the summaries (as JSON) and the files.
-    pub fn finish(&self, sim: &Simulation, dir: &Path) -> Result<(Value, Vec<PathBuf>)> {
+    pub fn finish(&self, sim: &Simulation<D>, dir: &Path) -> Result<(Value, Vec<PathBuf>)> {
         std::fs::create_dir_all(dir).map_err(|e| {
             crate::UserError(format!(
                 "{}: cannot create the measurement folder: {e}",
@@ -189,20 +189,22 @@ impl Measurements {
         }
         if let Some(m) = &self.speeds {
             let kt = kinetic_temperature(sim);
+            // The 2D names stay as they were; in 3D the law is Maxwell's.
+            let law = if D == 2 { "rayleigh" } else { "maxwell" };
             csv(
                 "speeds.csv",
-                &["speed", "density", "rayleigh_density"],
-                m.histogram_vs_rayleigh(kt)
+                &["speed", "density", &format!("{law}_density")],
+                m.histogram_vs_maxwell(kt)
                     .iter()
                     .map(|&(v, h, r)| vec![v, h, r])
                     .collect(),
             )?;
             let s = m.summary(kt);
-            out.insert(
-                "speeds".into(),
-                json!({"samples": s.samples, "mean": s.mean, "mean_rayleigh": s.mean_theory, "rms": s.rms, "rms_rayleigh": s.rms_theory,
-                       "ks_statistic": s.ks.statistic, "ks_p_value": s.ks.p_value}),
-            );
+            let mut j = json!({"samples": s.samples, "mean": s.mean, "rms": s.rms,
+                       "ks_statistic": s.ks.statistic, "ks_p_value": s.ks.p_value});
+            j[format!("mean_{law}")] = json!(s.mean_theory);
+            j[format!("rms_{law}")] = json!(s.rms_theory);
+            out.insert("speeds".into(), j);
         }
         if let Some(m) = &self.msd {
             csv(
@@ -243,8 +245,8 @@ impl Measurements {
     }
 }
 
-impl Observer for Measurements {
-    fn on_event(&mut self, e: &EventRecord, sim: &Simulation) {
+impl<const D: usize> Observer<D> for Measurements<D> {
+    fn on_event(&mut self, e: &EventRecord<D>, sim: &Simulation<D>) {
         if let Some(m) = &mut self.pressure {
             m.on_event(e, sim);
         }

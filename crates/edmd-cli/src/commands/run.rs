@@ -15,7 +15,7 @@ use serde::Serialize;
 
 use crate::args::{ColumnsArg, FormatArg, RuleArg, RunArgs};
 use crate::commands::measurements::Measurements;
-use crate::input::{build, load, read_text};
+use crate::input::{build, load_any, read_text};
 use crate::output::{check_distinct, AtomicFile};
 use crate::user_error;
 
@@ -26,6 +26,8 @@ pub struct Summary {
     pub file: String,
     /// Input format.
     pub format: &'static str,
+    /// Dimension (2: discs, 3: spheres).
+    pub dim: usize,
     /// Number of discs.
     pub n: usize,
     /// End time.
@@ -65,7 +67,14 @@ pub fn run(args: &RunArgs) -> Result<()> {
         FormatArg::Course => Some(Format::Course),
         FormatArg::Princeton => Some(Format::Princeton(order)),
     };
-    let sys = load(&args.file, &text, format, order)?;
+    match load_any(&args.file, &text, format, order)? {
+        edmd_io::AnyLoaded::Two(sys) => run_in(args, sys),
+        edmd_io::AnyLoaded::Three(sys) => run_in(args, sys),
+    }
+}
+
+/// Runs a system read from the file, in its dimension.
+fn run_in<const D: usize>(args: &RunArgs, sys: edmd_io::LoadedSystem<D>) -> Result<()> {
     if args.columns.is_some() && sys.format == Format::Course {
         return user_error(format!(
             "{}: --columns applies to the Princeton format, and this is a course file (N, R, Lx Ly, then x y u v)",
@@ -150,6 +159,7 @@ pub fn run(args: &RunArgs) -> Result<()> {
     let e1 = sim.kinetic_energy();
     let summary = Summary {
         file: args.file.clone(),
+        dim: D,
         format: match sys.format {
             Format::Course => "course",
             Format::Princeton(_) => "princeton",
@@ -277,9 +287,10 @@ fn check_options(args: &RunArgs) -> Result<()> {
 
 fn human(s: &Summary) -> String {
     let mut t = format!(
-        "{}: {} discs ({} format) simulated to t = {}\nevents: {} disc-disc, {} wall, {} cell crossings ({} stale predictions discarded)\nspeed: {:.3e} collisions per second ({:.3} s in the event loop)\nenergy: relative change {:.3e}",
+        "{}: {} {} ({} format) simulated to t = {}\nevents: {} disc-disc, {} wall, {} cell crossings ({} stale predictions discarded)\nspeed: {:.3e} collisions per second ({:.3} s in the event loop)\nenergy: relative change {:.3e}",
         s.file,
         s.n,
+        if s.dim == 3 { "spheres" } else { "discs" },
         s.format,
         s.until,
         s.disc_collisions,
@@ -305,8 +316,8 @@ fn human(s: &Summary) -> String {
 /// Runs to time `t`, updating the progress bar, in chunks of events so that Ctrl-C is noticed
 /// (then the run is abandoned: nothing is written, temporary files are removed). Positions
 /// are computed on demand, so stopping between chunks does not change the trajectory.
-fn run_to<O: Observer>(
-    sim: &mut Simulation,
+fn run_to<const D: usize, O: Observer<D>>(
+    sim: &mut Simulation<D>,
     t: f64,
     progress: &Option<indicatif::ProgressBar>,
     obs: &mut O,
@@ -354,7 +365,7 @@ fn progress_bar(until: f64) -> Option<indicatif::ProgressBar> {
 }
 
 /// Fails if any disc overlaps another or leaves the box.
-pub fn check(sim: &Simulation) -> Result<()> {
+pub fn check<const D: usize>(sim: &Simulation<D>) -> Result<()> {
     let o = sim.overlaps(OVERLAP_TOLERANCE);
     if let Some((i, j, ov)) = o.first {
         anyhow::bail!(
