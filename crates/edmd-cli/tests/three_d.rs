@@ -212,3 +212,66 @@ fn ase_reads_a_sphere_trajectory() {
         String::from_utf8_lossy(&out.stderr)
     );
 }
+
+#[test]
+fn spheres_render_as_a_view_and_as_a_slice() {
+    let dir = tempfile::tempdir().unwrap();
+    let file = example("spheres-500.txt");
+    let file = file.to_str().unwrap();
+    let frames = |name: &str, extra: &[&str]| -> Vec<Vec<u8>> {
+        let out = dir.path().join(name);
+        let mut a = vec![
+            "render",
+            file,
+            "-o",
+            out.to_str().unwrap(),
+            "--until",
+            "1",
+            "--fps",
+            "2",
+            "--size",
+            "120x100",
+        ];
+        a.extend_from_slice(extra);
+        ok_stdout(&run("edmd", &a, None));
+        let mut opts = gif::DecodeOptions::new();
+        opts.set_color_output(gif::ColorOutput::RGBA);
+        let mut dec = opts.read_info(std::fs::File::open(&out).unwrap()).unwrap();
+        assert_eq!((dec.width(), dec.height()), (120, 100));
+        let mut all = Vec::new();
+        while let Some(f) = dec.read_next_frame().unwrap() {
+            all.push(f.buffer.to_vec());
+        }
+        all
+    };
+    let view = frames("v.gif", &["--view", "-60,35"]);
+    assert_eq!(view.len(), 3);
+    assert_ne!(view[0], view[2], "the spheres move");
+    let other = frames("w.gif", &["--view", "30,20"]);
+    assert_ne!(view[0], other[0], "another direction, another picture");
+    let cut = frames("s.gif", &["--slice", "z=2.5"]);
+    assert_ne!(cut[0], view[0]);
+    // Distinct colours in the slice: white background, box edges and sphere colours.
+    let colours: std::collections::HashSet<&[u8]> = cut[0].chunks(4).collect();
+    assert!(colours.len() > 3, "{} colours", colours.len());
+    refused(
+        &run(
+            "edmd",
+            &[
+                "render", file, "-o", "x.gif", "--until", "1", "--slice", "z=99",
+            ],
+            None,
+        ),
+        &["outside the box"],
+    );
+    refused(
+        &run(
+            "edmd",
+            &[
+                "render", file, "-o", "x.gif", "--until", "1", "--view", "0,100",
+            ],
+            None,
+        ),
+        &["ELEVATION"],
+    );
+}

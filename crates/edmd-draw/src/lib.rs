@@ -1,5 +1,8 @@
 //! # edmd-draw: one picture of a hard-disc system
 //!
+//! Spheres (3D systems) are drawn by [`draw3`] from a [`Scene3`]: shaded, back to front, in an
+//! orthographic [`View`] from any direction, or as a slice.
+//!
 //! The viewer window and the offline renderer both call [`draw`], so they show the same
 //! picture: the box, every disc to scale in its colour (or coloured by speed or species), the
 //! internal barriers with their doors, and the trails of tagged discs. Drawing only reads a
@@ -17,6 +20,9 @@
 //! ```
 
 #![forbid(unsafe_code)]
+
+mod spheres;
+pub use spheres::{draw3, draw3_into, slice, Scene3, View};
 
 use edmd_core::{Barrier, Simulation, Vector};
 pub use tiny_skia::Pixmap;
@@ -41,7 +47,7 @@ pub const OUTSIDE: [u8; 3] = [236, 236, 240];
 /// Colour of walls and barriers.
 pub const WALL: [u8; 3] = [40, 40, 40];
 
-const PALETTE: [[u8; 3]; 6] = [
+pub(crate) const PALETTE: [[u8; 3]; 6] = [
     [31, 119, 180],
     [44, 160, 44],
     [214, 39, 40],
@@ -164,7 +170,7 @@ impl Viewport {
     }
 }
 
-fn paint(rgb: [u8; 3]) -> Paint<'static> {
+pub(crate) fn paint(rgb: [u8; 3]) -> Paint<'static> {
     let mut p = Paint::default();
     p.set_color_rgba8(rgb[0], rgb[1], rgb[2], 255);
     p.anti_alias = true;

@@ -15,11 +15,11 @@ use std::process::{Command, Stdio};
 
 use anyhow::{Context, Result};
 use clap::Args;
-use edmd_core::{Options, OverlapPolicy};
-use edmd_draw::{draw_into, rgba, Colouring, Pixmap, Scene};
+use edmd_core::{Options, OverlapPolicy, Simulation};
+use edmd_draw::{draw3_into, draw_into, rgba, Colouring, Pixmap, Scene, Scene3, View};
 
 use crate::args::{parse_positive, parse_time};
-use crate::input::{build, load, read_text};
+use crate::input::{build, load_any, read_text};
 use crate::output::AtomicFile;
 use crate::user_error;
 
@@ -61,6 +61,47 @@ pub struct RenderArgs {
     /// Run files with overlapping discs (see `edmd run --allow-overlaps`).
     #[arg(long)]
     pub allow_overlaps: bool,
+    /// 3D files: the viewing direction, `AZIMUTH,ELEVATION` in degrees (azimuth about the z
+    /// axis from +x, elevation above the xy plane; z is up).
+    #[arg(long, value_name = "AZ,EL", value_parser = parse_view, default_value = "30,20", allow_hyphen_values = true)]
+    pub view: (f64, f64),
+    /// 3D files: draw the slice of the box by the plane `x=X`, `y=Y` or `z=Z` instead (the
+    /// circles where it cuts the spheres), seen along that axis.
+    #[arg(long, value_name = "AXIS=POSITION", value_parser = parse_slice)]
+    pub slice: Option<(usize, f64)>,
+}
+
+/// `AZIMUTH,ELEVATION` in degrees, the elevation in `[-90, 90]`.
+pub fn parse_view(s: &str) -> Result<(f64, f64), String> {
+    let bad = || {
+        format!("view must be AZIMUTH,ELEVATION in degrees (elevation from -90 to 90), found '{s}'")
+    };
+    let (a, e) = s.split_once(',').ok_or_else(bad)?;
+    let (a, e): (f64, f64) = (
+        a.trim().parse().map_err(|_| bad())?,
+        e.trim().parse().map_err(|_| bad())?,
+    );
+    if !a.is_finite() || !(-90.0..=90.0).contains(&e) {
+        return Err(bad());
+    }
+    Ok((a, e))
+}
+
+/// `x=X`, `y=Y` or `z=Z`.
+pub fn parse_slice(s: &str) -> Result<(usize, f64), String> {
+    let bad = || format!("slice must be x=POSITION, y=POSITION or z=POSITION, found '{s}'");
+    let (a, p) = s.split_once('=').ok_or_else(bad)?;
+    let axis = match a.trim() {
+        "x" => 0,
+        "y" => 1,
+        "z" => 2,
+        _ => return Err(bad()),
+    };
+    let p: f64 = p.trim().parse().map_err(|_| bad())?;
+    if !p.is_finite() {
+        return Err(bad());
+    }
+    Ok((axis, p))
 }
 
 /// `WIDTHxHEIGHT`, each from 16 to 4096.
@@ -209,7 +250,52 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     }
     let frames = frames as u64;
     let text = read_text(&args.file)?;
-    let sys = load(&args.file, &text, None, Default::default())?;
+    let colouring = match args.colour {
+        ColourArg::File => Colouring::File,
+        ColourArg::Speed => Colouring::Speed,
+        ColourArg::Species => Colouring::Species,
+    };
+    match load_any(&args.file, &text, None, Default::default())? {
+        edmd_io::AnyLoaded::Two(sys) => {
+            if args.slice.is_some() {
+                return user_error("render: --slice applies to 3D files, and this one is 2D");
+            }
+            render_in(args, sys, kind, frames, |sim, pm| {
+                draw_into(&Scene::capture(sim, colouring), pm)
+            })
+        }
+        edmd_io::AnyLoaded::Three(sys) => {
+            let view = match args.slice {
+                Some((axis, position)) => {
+                    let l = sys.sim_box.lengths[axis];
+                    if !(0.0..=l).contains(&position) {
+                        return user_error(format!(
+                            "render: --slice {}={position} is outside the box (0 to {l})",
+                            ["x", "y", "z"][axis]
+                        ));
+                    }
+                    View::Slice { axis, position }
+                }
+                None => View::Orbit {
+                    azimuth: args.view.0,
+                    elevation: args.view.1,
+                },
+            };
+            render_in(args, sys, kind, frames, |sim, pm| {
+                draw3_into(&Scene3::capture(sim, colouring), view, pm)
+            })
+        }
+    }
+}
+
+/// Renders a system of dimension `D`, each frame drawn by `picture`.
+fn render_in<const D: usize>(
+    args: &RenderArgs,
+    sys: edmd_io::LoadedSystem<D>,
+    kind: OutKind,
+    frames: u64,
+    picture: impl Fn(&Simulation<D>, &mut Pixmap),
+) -> Result<()> {
     let overlaps = if args.allow_overlaps {
         OverlapPolicy::Allow
     } else {
@@ -224,11 +310,6 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         },
     )?;
     let (w, h) = args.size;
-    let colouring = match args.colour {
-        ColourArg::File => Colouring::File,
-        ColourArg::Speed => Colouring::Speed,
-        ColourArg::Species => Colouring::Species,
-    };
     crate::commands::experiment::common::install_ctrlc();
     let mut sink = match kind {
         OutKind::Gif => {
@@ -263,7 +344,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         }
         let t = (k as f64 * args.time_scale / args.fps).min(args.until);
         sim.run_until(t, &mut ());
-        draw_into(&Scene::capture(&sim, colouring), &mut pixmap);
+        picture(&sim, &mut pixmap);
         match &mut sink {
             Sink::Gif(enc) => {
                 let mut px = rgba(&pixmap);
