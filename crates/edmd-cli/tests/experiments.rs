@@ -396,3 +396,71 @@ fn ctrl_c_stops_a_long_experiment_and_keeps_its_results() {
     assert_eq!(csv.lines().count(), 1 + done);
     assert!(String::from_utf8_lossy(&out.stderr).contains("stopping"));
 }
+
+#[test]
+fn eos_of_spheres_matches_pieprzyk_and_the_collision_rate_relation() {
+    // Pieprzyk, Bannerman, Branka, Chudak and Heyes, PCCP 21, 6886 (2019), the most accurate
+    // published hard-sphere equation of state; the collision rate per sphere must equal
+    // 6 (Z - 1) sqrt(kT / (pi m)) / sigma for the measured Z (an exact relation).
+    let (v, dir) = experiment(&[
+        "eos",
+        "--dim",
+        "3",
+        "--packing",
+        "0.3,0.45",
+        "--n",
+        "1000",
+        "--collisions",
+        "400",
+    ]);
+    assert_eq!(v["dim"], 3);
+    for r in v["results"].as_array().unwrap() {
+        let (z, err, reference) = (
+            r["Z"].as_f64().unwrap(),
+            r["Z_err"].as_f64().unwrap(),
+            r["pieprzyk"].as_f64().unwrap(),
+        );
+        assert!(r.get("henderson").is_none(), "{r}");
+        assert!((z / reference - 1.0).abs() < 0.005, "{r}");
+        assert!((z - reference).abs() < 4.0 * err, "{r}");
+        let rate = r["collision_rate"].as_array().unwrap();
+        let (measured, implied) = (rate[0].as_f64().unwrap(), rate[1].as_f64().unwrap());
+        assert!((measured / implied - 1.0).abs() < 0.01, "{r}");
+    }
+    assert_files(&dir, &["eos.csv", "eos.png", "eos.svg"]);
+    let csv = std::fs::read_to_string(dir.path().join("eos.csv")).unwrap();
+    assert!(csv.starts_with("packing,Z,Z_err,pieprzyk,"), "{csv}");
+}
+
+#[test]
+fn spheres_relax_to_the_3d_maxwell_law_and_follow_enskog() {
+    let (v, _dir) = experiment(&["maxwell", "--dim", "3", "--n", "1000"]);
+    assert!(v["ks_p_value"].as_f64().unwrap() > 0.01, "{v}");
+    assert!(v["initial_ks_p_value"].as_f64().unwrap() < 1e-6, "{v}");
+    // The mean speed of the 3D law, sqrt(8 kT / (pi m)), not the 2D one.
+    let mean = v["mean_speed"].as_array().unwrap();
+    let kt = v["kt"].as_f64().unwrap();
+    assert!((mean[1].as_f64().unwrap() - (8.0 * kt / std::f64::consts::PI).sqrt()).abs() < 1e-12);
+    assert!(
+        (mean[0].as_f64().unwrap() / mean[1].as_f64().unwrap() - 1.0).abs() < 0.01,
+        "{v}"
+    );
+    // Enskog's mean free path for spheres, 1 / (sqrt(2) pi n sigma^2 g), g from the EOS.
+    let (v, _dir) = experiment(&["mfp", "--dim", "3", "--packing", "0.1,0.4", "--n", "600"]);
+    for r in v["results"].as_array().unwrap() {
+        let (m, e) = (
+            r["mean_free_path"].as_f64().unwrap(),
+            r["enskog_mean_free_path"].as_f64().unwrap(),
+        );
+        assert!((m / e - 1.0).abs() < 0.01, "{r}");
+    }
+    let out = run("edmd", &["experiment", "eos", "--dim", "4"], None);
+    assert_eq!(out.status.code(), Some(2));
+    let out = run(
+        "edmd",
+        &["experiment", "eos", "--dim", "3", "--packing", "0.55"],
+        None,
+    );
+    assert_eq!(out.status.code(), Some(2));
+    assert_eq!(String::from_utf8_lossy(&out.stderr).lines().count(), 1);
+}

@@ -72,6 +72,68 @@ pub fn collision_rate_from_z(z: f64, dim: usize, sigma: f64, kt: f64, m: f64) ->
     2.0 * dim as f64 * (z - 1.0) * (kt / (PI * m)).sqrt() / sigma
 }
 
+/// The reference equation of state in `dim` dimensions: Henderson's for discs
+/// ([`henderson_z`]), Pieprzyk et al.'s for spheres ([`pieprzyk_z`]).
+pub fn reference_z(eta: f64, dim: usize) -> f64 {
+    if dim == 3 {
+        pieprzyk_z(eta)
+    } else {
+        henderson_z(eta)
+    }
+}
+
+/// The contact value of the pair distribution implied by [`reference_z`] through the virial
+/// relation `Z = 1 + 2 eta g` (discs) or `Z = 1 + 4 eta g` (spheres).
+pub fn contact_value(eta: f64, dim: usize) -> f64 {
+    if dim == 3 {
+        (pieprzyk_z(eta) - 1.0) / (4.0 * eta)
+    } else {
+        henderson_contact(eta)
+    }
+}
+
+/// Number density of particles of diameter `sigma` at packing fraction `eta` in `dim`
+/// dimensions (`eta / (pi sigma^2 / 4)` or `eta / (pi sigma^3 / 6)`).
+pub fn number_density_in(eta: f64, sigma: f64, dim: usize) -> f64 {
+    if dim == 3 {
+        eta / (PI * sigma.powi(3) / 6.0)
+    } else {
+        number_density(eta, sigma)
+    }
+}
+
+/// Enskog's collision frequency per particle in `dim` dimensions: `2 n sigma g sqrt(pi kT/m)`
+/// for discs ([`enskog_collision_frequency`]), `4 n sigma^2 g sqrt(pi kT/m)` for spheres
+/// (Chapman and Cowling, *The Mathematical Theory of Non-Uniform Gases* (1970), section 16.9,
+/// with Enskog's factor `g(sigma)`), with `g` from [`contact_value`].
+pub fn enskog_collision_frequency_in(eta: f64, sigma: f64, kt: f64, m: f64, dim: usize) -> f64 {
+    if dim == 3 {
+        4.0 * number_density_in(eta, sigma, 3)
+            * sigma
+            * sigma
+            * contact_value(eta, 3)
+            * (PI * kt / m).sqrt()
+    } else {
+        enskog_collision_frequency(eta, sigma, kt, m)
+    }
+}
+
+/// Enskog's mean free path `<v> / omega` in `dim` dimensions: `1 / (2 sqrt(2) n sigma g)` for
+/// discs ([`enskog_mean_free_path`]), `1 / (sqrt(2) pi n sigma^2 g)` for spheres (mean speed
+/// `sqrt(8 kT / (pi m))`).
+pub fn enskog_mean_free_path_in(eta: f64, sigma: f64, dim: usize) -> f64 {
+    if dim == 3 {
+        1.0 / (2f64.sqrt()
+            * PI
+            * number_density_in(eta, sigma, 3)
+            * sigma
+            * sigma
+            * contact_value(eta, 3))
+    } else {
+        enskog_mean_free_path(eta, sigma)
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -99,6 +161,21 @@ mod tests {
         for eta in [0.2, 0.3, 0.4, 0.45] {
             let r = carnahan_starling_z(eta) / pieprzyk_z(eta) - 1.0;
             assert!(r < 0.0 && r > -0.003, "{eta}: {r}");
+        }
+    }
+
+    #[test]
+    fn enskog_in_3d_is_consistent_with_the_collision_rate_relation_and_the_mean_speed() {
+        // Enskog's frequency with g from Z is the rate the virial relation gives for that Z,
+        // and the mean free path is the 3D mean speed over it.
+        for eta in [0.1, 0.3, 0.45] {
+            let (kt, m) = (1.3, 0.7);
+            let omega = enskog_collision_frequency_in(eta, 1.0, kt, m, 3);
+            let from_z = collision_rate_from_z(pieprzyk_z(eta), 3, 1.0, kt, m);
+            assert!((omega / from_z - 1.0).abs() < 1e-12, "{omega} {from_z}");
+            let mean_speed = (8.0 * kt / (PI * m)).sqrt();
+            let lambda = enskog_mean_free_path_in(eta, 1.0, 3);
+            assert!((lambda / (mean_speed / omega) - 1.0).abs() < 1e-12);
         }
     }
 

@@ -6,6 +6,9 @@
 //! `omega = 2 n sigma g(sigma) sqrt(pi kT / m)` with Henderson's contact value
 //! `g(sigma) = (1 - 7 eta / 16) / (1 - eta)^2`, and with the mean speed
 //! `<v> = sqrt(pi kT / 2m)` the mean free path `lambda = <v> / omega = 1 / (2 sqrt(2) n sigma g)`.
+//! For spheres (`--dim 3`) `omega = 4 n sigma^2 g sqrt(pi kT / m)` and
+//! `lambda = 1 / (sqrt(2) pi n sigma^2 g)`, with the contact value from Pieprzyk et al.'s
+//! equation of state, `g = (Z - 1) / (4 eta)`.
 
 use anyhow::Result;
 use clap::Args;
@@ -15,14 +18,18 @@ use edmd_plot::{Figure, Series};
 use serde::Serialize;
 
 use super::common::{
-    check_n, check_packings, files_line, melted_fluid, out_dir, report, stop_requested, write_csv,
-    CommonArgs, Progress,
+    check_n, check_packings, files_line, melted_fluid_in, out_dir, report, stop_requested,
+    write_csv, CommonArgs, Progress,
 };
 
 /// Options of `edmd experiment mfp`.
 #[derive(Debug, Args)]
 pub struct MfpArgs {
-    /// Packing fractions, comma-separated; histograms are drawn for the first.
+    /// Dimension: 2 (discs) or 3 (spheres).
+    #[arg(long, default_value_t = 2, value_parser = crate::args::parse_dim)]
+    pub dim: usize,
+    /// Packing fractions, comma-separated; histograms are drawn for the first (spheres: at
+    /// most 0.50).
     #[arg(long, value_delimiter = ',', default_values_t = vec![0.05, 0.1, 0.2, 0.3, 0.4, 0.5], allow_negative_numbers = true)]
     pub packing: Vec<f64>,
     /// Number of discs.
@@ -46,6 +53,11 @@ pub struct MfpArgs {
 /// Enskog's mean free path for discs of diameter 1 at packing fraction `eta`.
 pub fn enskog_mean_free_path(eta: f64) -> f64 {
     theory::enskog_mean_free_path(eta, 1.0)
+}
+
+/// Enskog's mean free path for particles of diameter 1 in `dim` dimensions.
+fn enskog_lambda(eta: f64, dim: usize) -> f64 {
+    theory::enskog_mean_free_path_in(eta, 1.0, dim)
 }
 
 /// One packing fraction.
@@ -72,6 +84,8 @@ pub struct Point {
 pub struct Summary {
     /// Experiment name.
     pub experiment: &'static str,
+    /// Dimension.
+    pub dim: usize,
     /// Discs.
     pub n: usize,
     /// One entry per packing fraction.
@@ -82,7 +96,18 @@ pub struct Summary {
 
 /// Runs the experiment.
 pub fn run(args: &MfpArgs) -> Result<()> {
-    check_packings("mfp", &args.packing, 0.70)?;
+    match args.dim {
+        3 => run_in::<3>(args),
+        _ => run_in::<2>(args),
+    }
+}
+
+fn run_in<const D: usize>(args: &MfpArgs) -> Result<()> {
+    check_packings(
+        "mfp",
+        &args.packing,
+        if D == 3 { 0.500_000_1 } else { 0.70 },
+    )?;
     check_n("mfp", args.n, 16)?;
     super::common::check_count("mfp", "collisions", args.measure, 1, 100_000)?;
     let dir = out_dir(&args.common)?;
@@ -93,14 +118,14 @@ pub fn run(args: &MfpArgs) -> Result<()> {
         if stop_requested() {
             break;
         }
-        let (mut sim, rate) = melted_fluid(
+        let (mut sim, rate) = melted_fluid_in::<D>(
             args.n,
             eta,
             Boundary::Periodic,
             args.common.seed + k as u64,
             20,
         )?;
-        let lambda = enskog_mean_free_path(eta);
+        let lambda = enskog_lambda(eta, D);
         let e0 = sim.kinetic_energy();
         let mut obs = Collisions::new(&sim, 60, 5.0 * lambda, 5.0 * lambda / 1.25);
         let t_end = sim.time() + args.measure as f64 / rate;
@@ -113,8 +138,8 @@ pub fn run(args: &MfpArgs) -> Result<()> {
             obs.sample(&sim);
         }
         let s = obs.summary();
-        let density = theory::number_density(eta, 1.0);
-        let omega = theory::enskog_collision_frequency(eta, 1.0, 1.0, 1.0);
+        let density = theory::number_density_in(eta, 1.0, D);
+        let omega = theory::enskog_collision_frequency_in(eta, 1.0, 1.0, 1.0, D);
         if k == 0 {
             for (name, h, unit) in [
                 ("path", obs.free_path_histogram(), "diameters"),
@@ -182,18 +207,28 @@ pub fn run(args: &MfpArgs) -> Result<()> {
     let top = args.packing.iter().cloned().fold(0.0, f64::max);
     let curve: Vec<(f64, f64)> = (1..=200)
         .map(|i| top * i as f64 / 200.0)
-        .map(|e| (e / (std::f64::consts::PI / 4.0), enskog_mean_free_path(e)))
+        .map(|e| (theory::number_density_in(e, 1.0, D), enskog_lambda(e, D)))
         .collect();
+    let (what, per, formula) = if D == 3 {
+        (
+            "spheres",
+            "diameter^3",
+            "Enskog 1 / (sqrt(2) pi n sigma^2 g(sigma))",
+        )
+    } else {
+        (
+            "discs",
+            "diameter^2",
+            "Enskog 1 / (2 sqrt(2) n sigma g(sigma))",
+        )
+    };
     let (png, svg) = Figure::new(
-        &format!("Mean free path ({} discs, periodic)", args.n),
-        "number density n (discs per diameter^2)",
+        &format!("Mean free path ({} {what}, periodic)", args.n),
+        &format!("number density n ({what} per {per})"),
         "mean free path (diameters)",
     )
     .with_log_y()
-    .with(Series::line(
-        "Enskog 1 / (2 sqrt(2) n sigma g(sigma))",
-        curve,
-    ))
+    .with(Series::line(formula, curve))
     .with(Series::points(
         "edmd",
         results
@@ -204,7 +239,7 @@ pub fn run(args: &MfpArgs) -> Result<()> {
     .save(&dir.join("mfp"))?;
     files.extend([csv, png, svg]);
     let mut human = format!(
-        "mean free path, {} discs, periodic box:\n  packing  measured  Enskog   deviation\n",
+        "mean free path, {} {what}, periodic box:\n  packing  measured  Enskog   deviation\n",
         args.n
     );
     for p in &results {
@@ -224,6 +259,7 @@ pub fn run(args: &MfpArgs) -> Result<()> {
         &args.common,
         &Summary {
             experiment: "mfp",
+            dim: D,
             n: args.n,
             results,
             interrupted,
