@@ -24,6 +24,29 @@
 mod spheres;
 pub use spheres::{draw3, draw3_into, slice, Scene3, View};
 
+/// A scene of either kind, for code that shows both (the viewer).
+#[derive(Clone, Debug)]
+pub enum AnyScene {
+    /// Discs.
+    Flat(Scene),
+    /// Spheres, and how to look at them.
+    Solid(Scene3, View),
+}
+
+impl Default for AnyScene {
+    fn default() -> Self {
+        AnyScene::Flat(Scene::default())
+    }
+}
+
+/// Draws either kind of scene into an existing image.
+pub fn draw_any_into(scene: &AnyScene, pm: &mut Pixmap) {
+    match scene {
+        AnyScene::Flat(s) => draw_into(s, pm),
+        AnyScene::Solid(s, view) => draw3_into(s, *view, pm),
+    }
+}
+
 use edmd_core::{Barrier, Simulation, Vector};
 pub use tiny_skia::Pixmap;
 use tiny_skia::{Color, Paint, PathBuilder, Rect, Stroke, Transform};
@@ -78,8 +101,9 @@ pub struct Scene {
 }
 
 impl Scene {
-    /// The simulation at its current time, coloured as asked.
-    pub fn capture(sim: &Simulation, colouring: Colouring) -> Self {
+    /// The simulation at its current time, coloured as asked (for a 3D simulation, its
+    /// projection on the xy plane; [`Scene3`] draws spheres properly).
+    pub fn capture<const D: usize>(sim: &Simulation<D>, colouring: Colouring) -> Self {
         let n = sim.len();
         let rms = ((0..n).map(|i| sim.velocity(i).norm2()).sum::<f64>() / n.max(1) as f64).sqrt();
         let colours = (0..n)
@@ -93,9 +117,14 @@ impl Scene {
             .collect();
         let b = sim.sim_box();
         Scene {
-            lengths: b.lengths,
+            lengths: [b.lengths[0], b.lengths[1]],
             periodic: [b.is_periodic(0), b.is_periodic(1)],
-            positions: (0..n).map(|i| sim.position(i)).collect(),
+            positions: (0..n)
+                .map(|i| {
+                    let p = sim.position(i);
+                    Vector::new([p[0], p[1]])
+                })
+                .collect(),
             radii: (0..n).map(|i| sim.radius(i)).collect(),
             colours,
             barriers: sim.barriers().to_vec(),

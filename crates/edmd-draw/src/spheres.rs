@@ -31,8 +31,9 @@ pub struct Scene3 {
 }
 
 impl Scene3 {
-    /// The simulation at its current time, coloured as asked (as [`Scene::capture`]).
-    pub fn capture(sim: &Simulation<3>, colouring: Colouring) -> Self {
+    /// The simulation at its current time, coloured as asked (as [`Scene::capture`]); a 2D
+    /// simulation lies in the plane `z = 0` of a box of depth 0.
+    pub fn capture<const D: usize>(sim: &Simulation<D>, colouring: Colouring) -> Self {
         let n = sim.len();
         let rms = ((0..n).map(|i| sim.velocity(i).norm2()).sum::<f64>() / n.max(1) as f64).sqrt();
         let colours = (0..n)
@@ -45,10 +46,16 @@ impl Scene3 {
             })
             .collect();
         let b = sim.sim_box();
+        let pick = |v: &[f64], a: usize| if a < D { v[a] } else { 0.0 };
         Scene3 {
-            lengths: b.lengths,
-            periodic: std::array::from_fn(|a| b.is_periodic(a)),
-            positions: (0..n).map(|i| sim.position(i).0).collect(),
+            lengths: std::array::from_fn(|a| pick(&b.lengths, a)),
+            periodic: std::array::from_fn(|a| a < D && b.is_periodic(a)),
+            positions: (0..n)
+                .map(|i| {
+                    let p = sim.position(i);
+                    std::array::from_fn(|a| pick(&p.0, a))
+                })
+                .collect(),
             radii: (0..n).map(|i| sim.radius(i)).collect(),
             colours,
         }
@@ -269,11 +276,19 @@ fn draw_orbit(scene: &Scene3, azimuth: f64, elevation: f64, pm: &mut Pixmap) {
         .map(|(i, &p)| (cam.project(p).2, i))
         .collect();
     order.sort_by(|a, b| a.0.total_cmp(&b.0));
+    // One sprite per size (radii quantised to 1/16 pixel): a fluid of equal spheres shades
+    // one sprite and copies it.
+    let mut sprites: std::collections::HashMap<i64, Sprite> = std::collections::HashMap::new();
     for (_, i) in order {
         let (x, y, _) = cam.project(scene.positions[i]);
         let (px, py) = to_pixel(x, y);
         let colour = scene.colours.get(i).copied().unwrap_or([0, 0, 0]);
-        fill_sphere(pm, px, py, (scene.radii[i] * scale).max(0.5), colour);
+        let r = (scene.radii[i] * scale).clamp(0.5, 4096.0);
+        let key = (r * 16.0).round() as i64;
+        sprites
+            .entry(key)
+            .or_insert_with(|| Sprite::new(key as f64 / 16.0))
+            .blit(pm, px, py, colour);
     }
     if let Some(path) = visible.finish() {
         let periodic = scene.periodic.iter().all(|&p| p);
@@ -289,56 +304,82 @@ fn draw_orbit(scene: &Scene3, azimuth: f64, elevation: f64, pm: &mut Pixmap) {
 /// the left and in front.
 const LIGHT: [f64; 3] = [-0.42, -0.58, 0.70];
 
-/// Fills a shaded sphere of radius `r` pixels centred at `(cx, cy)`: for each pixel, the
-/// sphere's normal there lights it with an ambient term, Lambert's law and a Blinn-Phong
-/// highlight; the outermost pixel darkens (a rim) and is antialiased by coverage.
-fn fill_sphere(pm: &mut Pixmap, cx: f64, cy: f64, r: f64, colour: [u8; 3]) {
-    let (w, h) = (pm.width() as i64, pm.height() as i64);
-    let x0 = ((cx - r - 1.0).floor() as i64).max(0);
-    let x1 = ((cx + r + 1.0).ceil() as i64).min(w - 1);
-    let y0 = ((cy - r - 1.0).floor() as i64).max(0);
-    let y1 = ((cy + r + 1.0).ceil() as i64).min(h - 1);
-    if x0 > x1 || y0 > y1 {
-        return;
+/// The shading of one sphere size, pixel by pixel, computed once per picture and size: the
+/// sphere's normal at each pixel lights it with an ambient term, Lambert's law and a
+/// Blinn-Phong highlight; the outermost pixel darkens (a rim) and is antialiased by coverage.
+/// Centres are snapped to pixel centres, so one sprite serves every sphere of that size.
+struct Sprite {
+    /// Half-width in pixels: the sprite covers `-half..=half` in x and y.
+    half: i64,
+    /// Per pixel: coverage, the factor on the colour, and the white added.
+    cells: Vec<[f32; 3]>,
+}
+
+impl Sprite {
+    fn new(r: f64) -> Self {
+        let half = (r + 1.0).ceil() as i64;
+        let side = (2 * half + 1) as usize;
+        let norm = dot(LIGHT, LIGHT).sqrt();
+        let l = LIGHT.map(|c| c / norm);
+        // Half vector between the light and the viewer (0, 0, 1).
+        let hv = [l[0], l[1], l[2] + 1.0];
+        let hn = dot(hv, hv).sqrt();
+        let hv = hv.map(|c| c / hn);
+        let mut cells = Vec::with_capacity(side * side);
+        for y in -half..=half {
+            for x in -half..=half {
+                let (dx, dy) = (x as f64, y as f64);
+                let d = (dx * dx + dy * dy).sqrt();
+                let cov = (r + 0.5 - d).clamp(0.0, 1.0);
+                if cov <= 0.0 {
+                    cells.push([0.0; 3]);
+                    continue;
+                }
+                let (nx, ny) = (dx / r, dy / r);
+                let nz = (1.0 - nx * nx - ny * ny).max(0.0).sqrt();
+                let n = [nx, ny, nz];
+                let diffuse = dot(n, l).max(0.0);
+                let spec = dot(n, hv).max(0.0).powi(40);
+                // A dark rim in the last pixel or so of the radius.
+                let rim = ((r - d) / 1.2).clamp(0.0, 1.0);
+                let shade = (0.30 + 0.70 * diffuse) * (0.35 + 0.65 * rim);
+                cells.push([cov as f32, shade as f32, (255.0 * 0.45 * spec * rim) as f32]);
+            }
+        }
+        Sprite { half, cells }
     }
-    let norm = dot(LIGHT, LIGHT).sqrt();
-    let l = LIGHT.map(|c| c / norm);
-    // Half vector between the light and the viewer (0, 0, 1).
-    let hv = [l[0], l[1], l[2] + 1.0];
-    let hn = dot(hv, hv).sqrt();
-    let hv = hv.map(|c| c / hn);
-    let base = colour.map(|c| c as f64);
-    let pixels = pm.pixels_mut();
-    for y in y0..=y1 {
-        let dy = y as f64 + 0.5 - cy;
-        let row = (y * w) as usize;
-        for x in x0..=x1 {
-            let dx = x as f64 + 0.5 - cx;
-            let d = (dx * dx + dy * dy).sqrt();
-            let cov = (r + 0.5 - d).clamp(0.0, 1.0);
-            if cov <= 0.0 {
+
+    /// Draws the sprite in `colour` with its centre at the pixel nearest `(cx, cy)`. Dark file
+    /// colours are lifted a little so that black spheres still show their shading.
+    fn blit(&self, pm: &mut Pixmap, cx: f64, cy: f64, colour: [u8; 3]) {
+        let (w, h) = (pm.width() as i64, pm.height() as i64);
+        let (px, py) = (cx.floor() as i64, cy.floor() as i64);
+        let base = colour.map(|c| 40.0 + c as f32 * (215.0 / 255.0));
+        let side = 2 * self.half + 1;
+        let pixels = pm.pixels_mut();
+        for sy in 0..side {
+            let y = py + sy - self.half;
+            if y < 0 || y >= h {
                 continue;
             }
-            let (nx, ny) = (dx / r, dy / r);
-            let nz = (1.0 - nx * nx - ny * ny).max(0.0).sqrt();
-            let n = [nx, ny, nz];
-            let diffuse = dot(n, l).max(0.0);
-            let spec = dot(n, hv).max(0.0).powi(40);
-            // A dark rim in the last pixel or so of the radius.
-            let rim = ((r - d) / 1.2).clamp(0.0, 1.0);
-            let shade = (0.30 + 0.70 * diffuse) * (0.35 + 0.65 * rim);
-            let c: [f64; 3] = std::array::from_fn(|k| {
-                (base[k] * shade + 255.0 * 0.45 * spec * rim).clamp(0.0, 255.0)
-            });
-            let dst = &mut pixels[row + x as usize];
-            let mix = |s: f64, d: u8| (s * cov + d as f64 * (1.0 - cov)).round() as u8;
-            let c = [
-                mix(c[0], dst.red()),
-                mix(c[1], dst.green()),
-                mix(c[2], dst.blue()),
-            ];
-            if let Some(p) = tiny_skia::PremultipliedColorU8::from_rgba(c[0], c[1], c[2], 255) {
-                *dst = p;
+            for sx in 0..side {
+                let x = px + sx - self.half;
+                if x < 0 || x >= w {
+                    continue;
+                }
+                let [cov, shade, white] = self.cells[(sy * side + sx) as usize];
+                if cov <= 0.0 {
+                    continue;
+                }
+                let dst = &mut pixels[(y * w + x) as usize];
+                let mix = |k: usize, d: u8| {
+                    let s = (base[k] * shade + white).min(255.0);
+                    (s * cov + d as f32 * (1.0 - cov)).round() as u8
+                };
+                let c = [mix(0, dst.red()), mix(1, dst.green()), mix(2, dst.blue())];
+                if let Some(p) = tiny_skia::PremultipliedColorU8::from_rgba(c[0], c[1], c[2], 255) {
+                    *dst = p;
+                }
             }
         }
     }

@@ -10,7 +10,7 @@ use egui::{Color32, ColorImage, Key, TextureHandle, TextureOptions, ViewportComm
 use egui_plot::{Bar, BarChart, Legend, Line, Plot, PlotPoints};
 
 use edmd_core::EventKind;
-use edmd_draw::{pick, Colouring, Scene, OUTSIDE};
+use edmd_draw::{pick, AnyScene, Colouring, View, OUTSIDE};
 
 use crate::model::Model;
 use crate::painter::{Painter, Picture};
@@ -98,15 +98,15 @@ struct Rates {
 }
 
 /// The viewer application.
-pub struct ViewerApp {
-    model: Model,
+pub struct ViewerApp<const D: usize = 2> {
+    model: Model<D>,
     playing: bool,
     speed: f64,
     speed_range: (f64, f64),
     painter: Painter,
     shown_size: (u32, u32),
     texture: Option<TextureHandle>,
-    scene: Scene,
+    scene: AnyScene,
     redraw: bool,
     last_frame: Option<Instant>,
     last_sample: Instant,
@@ -119,11 +119,11 @@ pub struct ViewerApp {
     report: Rc<RefCell<Report>>,
 }
 
-impl ViewerApp {
+impl<const D: usize> ViewerApp<D> {
     /// A window showing `model`.
     pub fn new(
         ctx: &egui::Context,
-        model: Model,
+        model: Model<D>,
         settings: Settings,
         report: Rc<RefCell<Report>>,
     ) -> Self {
@@ -147,7 +147,7 @@ impl ViewerApp {
             painter,
             shown_size: (0, 0),
             texture: None,
-            scene: Scene::default(),
+            scene: AnyScene::default(),
             redraw: true,
             last_frame: None,
             last_sample: now,
@@ -167,7 +167,38 @@ impl ViewerApp {
         }
     }
 
+    /// Turns a 3D view by `azimuth` and `elevation` degrees (the elevation stays within +-90).
+    fn turn(&mut self, azimuth: f64, elevation: f64) {
+        if let View::Orbit {
+            azimuth: a,
+            elevation: e,
+        } = &mut self.model.view
+        {
+            *a = (*a + azimuth).rem_euclid(360.0);
+            *e = (*e + elevation).clamp(-90.0, 90.0);
+            self.redraw = true;
+        }
+    }
+
     fn keys(&mut self, ctx: &egui::Context) {
+        if D == 3 {
+            let (up, down, left) = ctx.input(|i| {
+                (
+                    i.key_pressed(Key::ArrowUp),
+                    i.key_pressed(Key::ArrowDown),
+                    i.key_pressed(Key::ArrowLeft),
+                )
+            });
+            if up {
+                self.turn(0.0, 10.0);
+            }
+            if down {
+                self.turn(0.0, -10.0);
+            }
+            if left {
+                self.turn(10.0, 0.0);
+            }
+        }
         if ctx.input(|i| i.key_pressed(Key::F)) {
             self.step_frame();
         }
@@ -212,16 +243,21 @@ impl ViewerApp {
 
     fn step_event(&mut self) {
         self.playing = false;
+        let (what_, one) = if D == 3 {
+            ("spheres", "sphere")
+        } else {
+            ("discs", "disc")
+        };
         self.last_event = match self.model.step_event() {
             None => "nothing will ever happen".to_string(),
             Some(e) => {
                 let what = match e.kind {
-                    EventKind::DiscDisc { i, j } => format!("discs {i} and {j} collide"),
-                    EventKind::Wall { i, .. } => format!("disc {i} hits a wall"),
+                    EventKind::DiscDisc { i, j } => format!("{what_} {i} and {j} collide"),
+                    EventKind::Wall { i, .. } => format!("{one} {i} hits a wall"),
                     EventKind::Barrier { i, barrier, .. } => {
                         format!("disc {i} meets barrier {barrier}")
                     }
-                    EventKind::CellCrossing { i, .. } => format!("disc {i} changes cell"),
+                    EventKind::CellCrossing { i, .. } => format!("{one} {i} changes cell"),
                 };
                 format!("t = {:.6}: {what}", e.time)
             }
@@ -402,7 +438,11 @@ impl ViewerApp {
         if !self.last_event.is_empty() {
             ui.label(&self.last_event);
         }
-        ui.small("Click a disc to tag it and draw its path; click again to untag. Keys: space play/pause, right arrow one event, F one frame, R restart, V reverse, C colouring.");
+        if D == 3 {
+            ui.small("Drag the picture to turn the view. Keys: space play/pause, right arrow one event, F one frame, R restart, V reverse, C colouring, arrows up/down tilt.");
+        } else {
+            ui.small("Click a disc to tag it and draw its path; click again to untag. Keys: space play/pause, right arrow one event, F one frame, R restart, V reverse, C colouring.");
+        }
         ui.separator();
         let h = ((ui.available_height() - 3.0 * 24.0) / 3.0).clamp(80.0, 220.0);
         ui.label("temperature kT");
@@ -419,7 +459,8 @@ impl ViewerApp {
                 PlotPoints::new(self.model.pressure_series().to_vec()),
             ));
         });
-        ui.label("speeds against Maxwell-Boltzmann (Rayleigh)");
+        let law = if D == 3 { "Maxwell" } else { "Rayleigh" };
+        ui.label(format!("speeds against Maxwell-Boltzmann ({law})"));
         let bins = self.model.speeds();
         let width = bins.get(1).map_or(1.0, |b| b.speed - bins[0].speed);
         fixed_plot("speeds", h)
@@ -432,8 +473,7 @@ impl ViewerApp {
                 p.bar_chart(BarChart::new("measured", bars).color(Color32::from_rgb(31, 119, 180)));
                 let curve: Vec<[f64; 2]> = bins.iter().map(|b| [b.speed, b.rayleigh]).collect();
                 p.line(
-                    Line::new("Rayleigh", PlotPoints::new(curve))
-                        .color(Color32::from_rgb(214, 39, 40)),
+                    Line::new(law, PlotPoints::new(curve)).color(Color32::from_rgb(214, 39, 40)),
                 );
             });
     }
@@ -464,7 +504,13 @@ impl ViewerApp {
         }
         let (sw, sh) = self.shown_size;
         let size = egui::vec2(sw as f32 / ppp, sh as f32 / ppp);
-        let (rect, response) = ui.allocate_exact_size(size, egui::Sense::click());
+        let (rect, response) = ui.allocate_exact_size(size, egui::Sense::click_and_drag());
+        if D == 3 && response.dragged() {
+            // Half a degree per point: a drag across the picture turns it by a few hundred.
+            let d = response.drag_delta();
+            self.turn(f64::from(d.x) * -0.5, f64::from(d.y) * 0.5);
+            ctx.request_repaint();
+        }
         if let Some(t) = &self.texture {
             let uv = egui::Rect::from_min_max(egui::pos2(0.0, 0.0), egui::pos2(1.0, 1.0));
             ui.painter().image(t.id(), rect, uv, Color32::WHITE);
@@ -473,7 +519,11 @@ impl ViewerApp {
             if let Some(pos) = response.interact_pointer_pos() {
                 let px = f64::from((pos.x - rect.min.x) * ppp);
                 let py = f64::from((pos.y - rect.min.y) * ppp);
-                if let Some(i) = pick(&self.scene, sw, sh, px, py) {
+                let hit = match &self.scene {
+                    AnyScene::Flat(scene) => pick(scene, sw, sh, px, py),
+                    AnyScene::Solid(..) => None,
+                };
+                if let Some(i) = hit {
                     self.model.toggle_tag(i);
                     self.redraw = true;
                     ctx.request_repaint();
@@ -503,7 +553,7 @@ impl ViewerApp {
     }
 }
 
-impl eframe::App for ViewerApp {
+impl<const D: usize> eframe::App for ViewerApp<D> {
     fn update(&mut self, ctx: &egui::Context, _frame: &mut eframe::Frame) {
         let now = Instant::now();
         {

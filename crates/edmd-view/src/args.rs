@@ -4,7 +4,7 @@ use std::path::PathBuf;
 
 use anyhow::Result;
 use clap::{Parser, ValueEnum};
-use edmd_cli::input::{build, load, read_text};
+use edmd_cli::input::{build, load, load_any, read_text};
 use edmd_cli::user_error;
 use edmd_core::setup::generators::{generate, GenKind};
 use edmd_core::{Boundary, Options, Simulation};
@@ -106,6 +106,14 @@ fn parse_size(s: &str) -> Result<[f32; 2], String> {
     }
 }
 
+/// A simulation of either dimension.
+pub enum AnySimulation {
+    /// Discs.
+    Two(Simulation<2>),
+    /// Spheres.
+    Three(Simulation<3>),
+}
+
 impl ViewArgs {
     /// Checks the options that clap cannot.
     pub fn validate(&self) -> Result<()> {
@@ -143,6 +151,23 @@ impl ViewArgs {
             }
         }
         Ok(())
+    }
+
+    /// The simulation to show, in the dimension of its file (generated systems are 2D).
+    pub fn simulation_any(&self) -> Result<AnySimulation> {
+        if let Some(kind) = &self.gen {
+            return self.generated(kind).map(AnySimulation::Two);
+        }
+        let path = self.file.as_deref().unwrap_or("-");
+        let text = read_text(path)?;
+        match load_any(path, &text, None, ColumnOrder::RadiusMass)? {
+            edmd_io::AnyLoaded::Two(sys) => {
+                build(path, &sys, Options::default()).map(AnySimulation::Two)
+            }
+            edmd_io::AnyLoaded::Three(sys) => {
+                build(path, &sys, Options::default()).map(AnySimulation::Three)
+            }
+        }
     }
 
     /// The simulation to show: the file read as `edmd run` reads it, or the generated system.

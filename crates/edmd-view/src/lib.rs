@@ -14,6 +14,8 @@
 //! colouring (C or the buttons), a logarithmic slider for the simulated time per second, and a
 //! click on a disc to tag it and draw its path. The side panel plots the temperature and the
 //! pressure against time and the speed histogram against the Rayleigh law, with counters.
+//! A 3D file (`# edmd dim 3`) is shown as shaded spheres in an orthographic view that turns
+//! when the picture is dragged (and with the up, down and left arrow keys).
 //!
 //! Without a display the program prints one line and exits with status 2. For tests and
 //! measurements: `--screenshot FILE.png --quit-after SECONDS` saves a real screenshot of the
@@ -62,10 +64,15 @@ pub fn main() -> ExitCode {
         );
         return ExitCode::from(2);
     }
-    let sim = match args.simulation() {
-        Ok(s) => s,
-        Err(e) => return edmd_cli::exit_with("edmd-view", Err(e)),
-    };
+    match args.simulation_any() {
+        Ok(args::AnySimulation::Two(sim)) => show(&args, sim),
+        Ok(args::AnySimulation::Three(sim)) => show(&args, sim),
+        Err(e) => edmd_cli::exit_with("edmd-view", Err(e)),
+    }
+}
+
+/// Opens the window on `sim` and runs it until it closes.
+fn show<const D: usize>(args: &ViewArgs, sim: edmd_core::Simulation<D>) -> ExitCode {
     let settings = Settings {
         speed: args.speed.unwrap_or_else(|| model::default_speed(&sim)),
         playing: !args.paused,

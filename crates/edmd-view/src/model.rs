@@ -4,33 +4,42 @@
 
 use edmd_core::measure::{kinetic_temperature, Pressure, Speeds, Temperature};
 use edmd_core::{EventKind, EventRecord, Observer, Simulation, Vector};
-use edmd_draw::{Colouring, Scene};
+use edmd_draw::{AnyScene, Colouring, Scene, Scene3, View};
 
 /// Most points kept per trail; older points are dropped.
 pub const MAX_TRAIL_POINTS: usize = 50_000;
 
 /// Paths of the tagged discs, recorded at every event they take part in (so the drawn polyline
 /// is the exact path) and at every frame.
-#[derive(Clone, Debug, Default)]
-pub struct Trails {
+#[derive(Clone, Debug)]
+pub struct Trails<const D: usize = 2> {
     tagged: Vec<usize>,
-    paths: Vec<Vec<Vector>>,
+    paths: Vec<Vec<Vector<D>>>,
 }
 
-impl Trails {
+impl<const D: usize> Default for Trails<D> {
+    fn default() -> Self {
+        Trails {
+            tagged: Vec::new(),
+            paths: Vec::new(),
+        }
+    }
+}
+
+impl<const D: usize> Trails<D> {
     /// The tagged discs, in the order they were tagged.
     pub fn tagged(&self) -> &[usize] {
         &self.tagged
     }
 
     /// The recorded path of each tagged disc, oldest point first.
-    pub fn paths(&self) -> &[Vec<Vector>] {
+    pub fn paths(&self) -> &[Vec<Vector<D>>] {
         &self.paths
     }
 
     /// Tags disc `i` (starting its trail where it is now), or untags it if it was tagged.
     /// Returns whether it is tagged now.
-    pub fn toggle(&mut self, i: usize, sim: &Simulation) -> bool {
+    pub fn toggle(&mut self, i: usize, sim: &Simulation<D>) -> bool {
         if let Some(k) = self.tagged.iter().position(|&t| t == i) {
             self.tagged.remove(k);
             self.paths.remove(k);
@@ -43,7 +52,7 @@ impl Trails {
     }
 
     /// Restarts every trail at the discs' current positions.
-    pub fn restart(&mut self, sim: &Simulation) {
+    pub fn restart(&mut self, sim: &Simulation<D>) {
         for (path, &i) in self.paths.iter_mut().zip(&self.tagged) {
             path.clear();
             path.push(sim.position(i));
@@ -51,13 +60,13 @@ impl Trails {
     }
 
     /// Adds the current position of every tagged disc (called at each frame).
-    pub fn record(&mut self, sim: &Simulation) {
+    pub fn record(&mut self, sim: &Simulation<D>) {
         for k in 0..self.tagged.len() {
             self.push(k, sim.position(self.tagged[k]));
         }
     }
 
-    fn push(&mut self, k: usize, p: Vector) {
+    fn push(&mut self, k: usize, p: Vector<D>) {
         let path = &mut self.paths[k];
         if path.last() != Some(&p) {
             path.push(p);
@@ -68,8 +77,8 @@ impl Trails {
     }
 }
 
-impl Observer for Trails {
-    fn on_event(&mut self, e: &EventRecord, sim: &Simulation) {
+impl<const D: usize> Observer<D> for Trails<D> {
+    fn on_event(&mut self, e: &EventRecord<D>, sim: &Simulation<D>) {
         if self.tagged.is_empty() {
             return;
         }
@@ -88,40 +97,43 @@ impl Observer for Trails {
     }
 }
 
-/// One bin of the speed histogram against the 2D Maxwell-Boltzmann (Rayleigh) law.
+/// One bin of the speed histogram against the Maxwell-Boltzmann law (Rayleigh in 2D).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SpeedBin {
     /// Speed at the centre of the bin.
     pub speed: f64,
     /// Measured probability density.
     pub density: f64,
-    /// Rayleigh density at the measured temperature.
+    /// Density of the law (Rayleigh in 2D, Maxwell in 3D) at the measured temperature.
     pub rayleigh: f64,
 }
 
 /// The state behind the viewer window.
 #[derive(Clone, Debug)]
-pub struct Model {
-    initial: Simulation,
+pub struct Model<const D: usize = 2> {
+    initial: Simulation<D>,
     /// The running simulation.
-    pub sim: Simulation,
+    pub sim: Simulation<D>,
     /// How discs are coloured.
     pub colouring: Colouring,
-    trails: Trails,
+    /// How a 3D system is looked at (unused in 2D).
+    pub view: View,
+    trails: Trails<D>,
     pressure: Pressure,
     temperature: Temperature,
     pressure_series: Vec<[f64; 2]>,
     speeds: Vec<SpeedBin>,
 }
 
-impl Model {
+impl<const D: usize> Model<D> {
     /// A viewer model starting from `sim` (kept for restarts).
-    pub fn new(sim: Simulation, colouring: Colouring) -> Self {
+    pub fn new(sim: Simulation<D>, colouring: Colouring) -> Self {
         let mut m = Model {
             pressure: Pressure::new(&sim),
             initial: sim.clone(),
             sim,
             colouring,
+            view: View::default(),
             trails: Trails::default(),
             temperature: Temperature::new(),
             pressure_series: Vec::new(),
@@ -141,7 +153,7 @@ impl Model {
     /// Processes events up to and including the next one that changes a velocity (cell
     /// crossings are bookkeeping and are passed over). Returns it, or `None` if nothing will
     /// ever happen.
-    pub fn step_event(&mut self) -> Option<EventRecord> {
+    pub fn step_event(&mut self) -> Option<EventRecord<D>> {
         loop {
             let e = self.sim.step(f64::INFINITY)?;
             self.pressure.on_event(&e, &self.sim);
@@ -174,7 +186,7 @@ impl Model {
     }
 
     /// The tagged discs and their trails.
-    pub fn trails(&self) -> &Trails {
+    pub fn trails(&self) -> &Trails<D> {
         &self.trails
     }
 
@@ -218,18 +230,27 @@ impl Model {
         &self.speeds
     }
 
-    /// What to draw now.
-    pub fn scene(&self) -> Scene {
+    /// What to draw now: discs with the trails of the tagged ones, or spheres in
+    /// [`Self::view`].
+    pub fn scene(&self) -> AnyScene {
+        if D == 3 {
+            return AnyScene::Solid(Scene3::capture(&self.sim, self.colouring), self.view);
+        }
         let mut scene = Scene::capture(&self.sim, self.colouring);
-        scene.trails = self.trails.paths().to_vec();
+        scene.trails = self
+            .trails
+            .paths()
+            .iter()
+            .map(|p| p.iter().map(|q| Vector::new([q[0], q[1]])).collect())
+            .collect();
         scene.highlighted = self.trails.tagged().to_vec();
-        scene
+        AnyScene::Flat(scene)
     }
 }
 
 /// Speed histogram of the current velocities, `bins` bins up to four times the RMS speed, with
 /// the Rayleigh density at the current temperature.
-pub fn speed_histogram(sim: &Simulation, bins: usize) -> Vec<SpeedBin> {
+pub fn speed_histogram<const D: usize>(sim: &Simulation<D>, bins: usize) -> Vec<SpeedBin> {
     let n = sim.len();
     if n == 0 {
         return Vec::new();
@@ -241,7 +262,7 @@ pub fn speed_histogram(sim: &Simulation, bins: usize) -> Vec<SpeedBin> {
     let mut speeds = Speeds::new(bins, 4.0 * rms);
     speeds.sample(sim);
     speeds
-        .histogram_vs_rayleigh(kinetic_temperature(sim))
+        .histogram_vs_maxwell(kinetic_temperature(sim))
         .into_iter()
         .map(|(speed, density, rayleigh)| SpeedBin {
             speed,
@@ -253,7 +274,7 @@ pub fn speed_histogram(sim: &Simulation, bins: usize) -> Vec<SpeedBin> {
 
 /// A default pace: simulated time per second of wall time at which a disc of RMS speed crosses
 /// a twentieth of the box's shorter side per second.
-pub fn default_speed(sim: &Simulation) -> f64 {
+pub fn default_speed<const D: usize>(sim: &Simulation<D>) -> f64 {
     let n = sim.len().max(1);
     let rms = ((0..sim.len()).map(|i| sim.velocity(i).norm2()).sum::<f64>() / n as f64).sqrt();
     let l = sim
@@ -337,11 +358,54 @@ mod tests {
         let total: f64 = h.iter().map(|b| b.density).sum::<f64>() * (h[1].speed - h[0].speed);
         assert!((total - 1.0).abs() < 1e-12);
         assert!(h.iter().all(|b| b.rayleigh >= 0.0));
-        assert_eq!(m.scene().positions.len(), 2);
+        match m.scene() {
+            AnyScene::Flat(scene) => assert_eq!(scene.positions.len(), 2),
+            AnyScene::Solid(..) => panic!("a 2D model drew spheres"),
+        }
     }
 
     #[test]
     fn default_speed_crosses_a_twentieth_of_the_box_per_second() {
         assert_eq!(default_speed(&pair()), 0.5);
+    }
+
+    #[test]
+    fn a_3d_model_draws_spheres_and_compares_speeds_with_the_3d_law() {
+        let discs = [
+            edmd_core::Disc::new(
+                Vector::new([2.0, 5.0, 5.0]),
+                Vector::new([1.0, 0.0, 0.0]),
+                0.5,
+            ),
+            edmd_core::Disc::new(
+                Vector::new([8.0, 5.0, 5.0]),
+                Vector::new([-1.0, 0.0, 0.0]),
+                0.5,
+            ),
+        ];
+        let sim = Simulation::new(&discs, SimBox::walls([10.0; 3]), Options::default()).unwrap();
+        let mut m = Model::new(sim, Colouring::File);
+        m.run_until(3.5);
+        assert_eq!(m.sim.stats().disc_disc, 1);
+        match m.scene() {
+            AnyScene::Solid(scene, view) => {
+                assert_eq!(scene.positions.len(), 2);
+                assert_eq!(view, View::default());
+            }
+            AnyScene::Flat(_) => panic!("a 3D model drew discs"),
+        }
+        m.sample();
+        // The law is Maxwell's: its density at the RMS speed 1 for kT = 1/3 (m v^2 = 3 kT).
+        let h = m.speeds();
+        let b = h
+            .iter()
+            .min_by(|a, b| (a.speed - 1.0).abs().total_cmp(&(b.speed - 1.0).abs()))
+            .unwrap();
+        let expected = edmd_core::measure::maxwell_pdf(b.speed, 1.0, 1.0 / 3.0, 3);
+        assert!(
+            (b.rayleigh - expected).abs() < 1e-12,
+            "{} vs {expected}",
+            b.rayleigh
+        );
     }
 }

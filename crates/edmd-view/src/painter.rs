@@ -1,16 +1,16 @@
-//! Drawing on a second thread: while the worker draws one frame with `edmd_draw::draw_into`,
+//! Drawing on a second thread: while the worker draws one frame with `edmd_draw::draw_any_into`,
 //! the window thread runs the simulation to the next frame and paints the interface.
 
 use std::sync::mpsc::{channel, Receiver, Sender};
 use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
-use edmd_draw::{draw_into, Pixmap, Scene};
+use edmd_draw::{draw_any_into, AnyScene, Pixmap};
 
 /// A drawn frame: the scene and its picture.
 pub struct Picture {
     /// What was drawn (kept to find the disc under the pointer).
-    pub scene: Scene,
+    pub scene: AnyScene,
     /// The picture.
     pub pixmap: Pixmap,
     /// Time the worker spent drawing it.
@@ -19,7 +19,7 @@ pub struct Picture {
 
 /// A drawing thread with one job at a time.
 pub struct Painter {
-    jobs: Option<Sender<(Scene, Pixmap)>>,
+    jobs: Option<Sender<(AnyScene, Pixmap)>>,
     done: Receiver<Picture>,
     worker: Option<JoinHandle<()>>,
     busy: bool,
@@ -29,14 +29,14 @@ pub struct Painter {
 impl Painter {
     /// Starts the worker; `wake` is called after each finished picture (to request a repaint).
     pub fn new(wake: impl Fn() + Send + 'static) -> Self {
-        let (jobs, inbox) = channel::<(Scene, Pixmap)>();
+        let (jobs, inbox) = channel::<(AnyScene, Pixmap)>();
         let (outbox, done) = channel();
         let worker = std::thread::Builder::new()
             .name("edmd-view draw".into())
             .spawn(move || {
                 for (scene, mut pixmap) in inbox {
                     let t0 = Instant::now();
-                    draw_into(&scene, &mut pixmap);
+                    draw_any_into(&scene, &mut pixmap);
                     let took = t0.elapsed();
                     if outbox
                         .send(Picture {
@@ -67,7 +67,7 @@ impl Painter {
     }
 
     /// Starts drawing `scene` at `width` x `height` pixels (the caller checks [`Self::busy`]).
-    pub fn submit(&mut self, scene: Scene, width: u32, height: u32) {
+    pub fn submit(&mut self, scene: AnyScene, width: u32, height: u32) {
         let pixmap = match self.spare.pop() {
             Some(p) if (p.width(), p.height()) == (width, height) => p,
             _ => Pixmap::new(width.max(1), height.max(1)).expect("non-zero size"),
@@ -123,15 +123,15 @@ mod tests {
         let mut p = Painter::new(move || {
             w.fetch_add(1, Ordering::SeqCst);
         });
-        let scene = Scene {
+        let scene = edmd_draw::Scene {
             lengths: [1.0, 1.0],
             positions: vec![edmd_core::Vector::new([0.5, 0.5])],
             radii: vec![0.2],
             colours: vec![[200, 0, 0]],
-            ..Scene::default()
+            ..edmd_draw::Scene::default()
         };
         assert!(!p.busy());
-        p.submit(scene.clone(), 120, 100);
+        p.submit(edmd_draw::AnyScene::Flat(scene.clone()), 120, 100);
         assert!(p.busy());
         let pic = p.wait().unwrap();
         assert!(!p.busy());

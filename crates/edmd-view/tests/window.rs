@@ -178,3 +178,48 @@ fn screenshot_under_xvfb() {
         .count();
     assert!(bars > 100, "histogram bars: {bars} pixels");
 }
+
+/// A 3D file opens as shaded spheres: the screenshot holds the outside colour around the box
+/// and many shades of the spheres' grey (the shading), with the Maxwell law plotted.
+#[test]
+fn spheres_under_xvfb() {
+    if !on_path("xvfb-run") {
+        if std::env::var_os("CI").is_some() {
+            panic!("xvfb-run is not installed, and CI is set: install xvfb and xauth");
+        }
+        use std::io::Write;
+        let _ = writeln!(
+            std::io::stderr(),
+            "SKIPPED spheres_under_xvfb: xvfb-run is not installed (apt-get install xvfb xauth)"
+        );
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let shot = dir.path().join("out.png");
+    let file = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/data/spheres-500.txt");
+    let out = run_with_timeout(
+        Command::new("xvfb-run")
+            .args(["-a", "-s", "-screen 0 1280x800x24", BIN])
+            .arg(&file)
+            .args(["--quit-after", "3", "--screenshot"])
+            .arg(&shot)
+            .env_remove("WAYLAND_DISPLAY"),
+        Duration::from_secs(120),
+    );
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        out.status.success(),
+        "status {:?}; stderr: {stderr}",
+        out.status
+    );
+    let (_, _, pixels) = read_png(&shot);
+    let outside = pixels.iter().filter(|p| **p == edmd_draw::OUTSIDE).count();
+    assert!(outside > 20_000, "outside the box: {outside} pixels");
+    // The spheres are black in the file: shaded, they show as many distinct greys.
+    let greys: std::collections::HashSet<[u8; 3]> = pixels
+        .iter()
+        .filter(|p| p[0] == p[1] && p[1] == p[2] && p[0] > 5 && p[0] < 200)
+        .copied()
+        .collect();
+    assert!(greys.len() > 60, "{} shades of grey", greys.len());
+}
