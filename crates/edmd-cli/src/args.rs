@@ -81,9 +81,10 @@ pub enum BoundaryArg {
 /// `edmd run`.
 #[derive(Debug, Args)]
 pub struct RunArgs {
-    /// Input file (`-` for standard input).
+    /// Input file (`-` for standard input): a data file, or a checkpoint to continue.
     pub file: String,
-    /// End time of the simulation.
+    /// End time of the simulation (absolute: a run continued from a checkpoint at time T0 runs
+    /// from T0 to this time).
     #[arg(long, value_name = "T", value_parser = parse_time, allow_negative_numbers = true)]
     pub until: f64,
     /// Write the final state here, in the input's format (`-` for standard output).
@@ -110,6 +111,14 @@ pub struct RunArgs {
     /// elastic rule. For billiard breaks and Newton's cradles.
     #[arg(long)]
     pub multi: bool,
+    /// Write an exact checkpoint of the whole engine state here at the end (and every
+    /// --checkpoint-every on the way), replaced atomically each time; `edmd run CHECKPOINT
+    /// --until T2` continues the run bit for bit.
+    #[arg(long, value_name = "FILE")]
+    pub checkpoint: Option<PathBuf>,
+    /// Simulated time between checkpoints.
+    #[arg(long, value_name = "DT", value_parser = parse_positive, requires = "checkpoint", allow_negative_numbers = true)]
+    pub checkpoint_every: Option<f64>,
     /// Write frames to this extended XYZ file (OVITO, ASE).
     #[arg(long, value_name = "FILE.xyz", requires = "every")]
     pub trajectory: Option<PathBuf>,

@@ -7,6 +7,10 @@ use thiserror::Error;
 #[derive(Debug, Clone, PartialEq, Error)]
 #[non_exhaustive]
 pub enum Error {
+    /// A checkpoint cannot be read: not one, truncated, corrupted, of another format version or
+    /// dimension, or inconsistent.
+    #[error("checkpoint: {0}")]
+    Checkpoint(String),
     /// A box edge length is not a finite positive number.
     #[error("box length {length} on axis {axis} is not a finite positive number")]
     BadBox {

@@ -41,7 +41,7 @@ pub use math::{Vector, DIM};
 pub use observer::{CollisionCounter, Observer};
 pub use resolve::CollisionRule;
 pub use simulation::{
-    MultiContact, Options, OverlapPolicy, OverlapReport, Simulation, Stats, MAX_BARRIERS,
-    OVERLAP_TOLERANCE,
+    checkpoint_dim, is_checkpoint, MultiContact, Options, OverlapPolicy, OverlapReport, Simulation,
+    Stats, CHECKPOINT_VERSION, MAX_BARRIERS, OVERLAP_TOLERANCE,
 };
 pub use state::{Barrier, Boundary, Colour, Demon, Disc, SimBox, System};

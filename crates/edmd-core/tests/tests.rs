@@ -2,6 +2,7 @@
 
 mod support;
 
+mod checkpoint;
 mod exact_cases;
 mod generators;
 mod invariants;

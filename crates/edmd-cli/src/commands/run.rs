@@ -57,6 +57,24 @@ pub struct Summary {
 /// Runs `edmd run`.
 pub fn run(args: &RunArgs) -> Result<()> {
     check_options(args)?;
+    if let Some(bytes) = read_checkpoint(&args.file)? {
+        if args.columns.is_some()
+            || args.format != FormatArg::Auto
+            || args.rule != RuleArg::Elastic
+            || args.multi
+            || args.allow_overlaps
+        {
+            return user_error(format!(
+                "{}: a checkpoint carries its run's options: drop --format, --columns, --rule, --multi and --allow-overlaps",
+                args.file
+            ));
+        }
+        return match edmd_core::checkpoint_dim(&bytes) {
+            Ok(3) => resume::<3>(args, &bytes),
+            Ok(_) => resume::<2>(args, &bytes),
+            Err(e) => user_error(format!("{}: {e}", args.file)),
+        };
+    }
     let text = read_text(&args.file)?;
     let order = match args.columns {
         None | Some(ColumnsArg::RadiusMass) => ColumnOrder::RadiusMass,
@@ -91,7 +109,7 @@ fn run_in<const D: usize>(args: &RunArgs, sys: edmd_io::LoadedSystem<D>) -> Resu
         OverlapPolicy::Refuse
     };
     let multi = args.multi.then(MultiContact::default);
-    let mut sim = build(
+    let sim = build(
         &args.file,
         &sys,
         Options {
@@ -100,6 +118,85 @@ fn run_in<const D: usize>(args: &RunArgs, sys: edmd_io::LoadedSystem<D>) -> Resu
             multi,
         },
     )?;
+    execute(args, sim, sys.format)
+}
+
+/// What a checkpoint keeps besides the engine state: the format of the file the run started
+/// from, in which the final state is written.
+#[derive(Debug, Serialize, serde::Deserialize)]
+struct CheckpointExtra {
+    format: String,
+}
+
+fn format_name(format: Format) -> &'static str {
+    match format {
+        Format::Course => "course",
+        Format::Princeton(ColumnOrder::RadiusMass) => "princeton",
+        Format::Princeton(ColumnOrder::MassRadius) => "princeton-mass-radius",
+    }
+}
+
+/// Continues a run from a checkpoint.
+fn resume<const D: usize>(args: &RunArgs, bytes: &[u8]) -> Result<()> {
+    let (sim, extra) = Simulation::<D>::from_checkpoint(bytes)
+        .or_else(|e| user_error(format!("{}: {e}", args.file)))?;
+    let format = match serde_json::from_slice::<CheckpointExtra>(&extra)
+        .ok()
+        .map(|x| x.format)
+        .as_deref()
+    {
+        Some("course") => Format::Course,
+        Some("princeton-mass-radius") => Format::Princeton(ColumnOrder::MassRadius),
+        Some("princeton") => Format::Princeton(ColumnOrder::RadiusMass),
+        _ => {
+            return user_error(format!(
+                "{}: checkpoint: the run's settings are missing or unreadable",
+                args.file
+            ))
+        }
+    };
+    if args.until < sim.time() {
+        return user_error(format!(
+            "{}: the checkpoint is at t = {}, after --until {}: give a later end time",
+            args.file,
+            sim.time(),
+            args.until
+        ));
+    }
+    execute(args, sim, format)
+}
+
+/// Reads `path` as a checkpoint if it starts with the checkpoint magic number; `None` for any
+/// other file (read as a data file then).
+fn read_checkpoint(path: &str) -> Result<Option<Vec<u8>>> {
+    use std::io::Read;
+    if path == "-" || std::fs::metadata(path).map_or(true, |m| !m.is_file()) {
+        return Ok(None);
+    }
+    let mut f = match std::fs::File::open(path) {
+        Ok(f) => f,
+        Err(_) => return Ok(None),
+    };
+    let mut start = [0u8; 8];
+    if f.read_exact(&mut start).is_err() || !edmd_core::is_checkpoint(&start) {
+        return Ok(None);
+    }
+    let mut bytes = start.to_vec();
+    f.take(crate::input::MAX_FILE as u64 + 1)
+        .read_to_end(&mut bytes)
+        .or_else(|e| user_error(format!("{path}: cannot read: {e}")))?;
+    if bytes.len() > crate::input::MAX_FILE {
+        return user_error(format!(
+            "{path}: checkpoint: larger than the largest file read"
+        ));
+    }
+    Ok(Some(bytes))
+}
+
+/// Runs `sim` to `--until`, writing the outputs the options ask for.
+fn execute<const D: usize>(args: &RunArgs, mut sim: Simulation<D>, format: Format) -> Result<()> {
+    let start_time = sim.time();
+    let start_collisions = sim.stats().disc_disc;
     // Create outputs before the run so that an unwritable path fails at once, not after it.
     let mut out_file = match args.output.as_deref() {
         Some("-") | None => None,
@@ -120,13 +217,33 @@ fn run_in<const D: usize>(args: &RunArgs, sys: edmd_io::LoadedSystem<D>) -> Resu
     let sample_dt = (!args.measure.is_empty())
         .then(|| args.sample_every.unwrap_or(args.until / 100.0))
         .filter(|d| *d > 0.0);
-    let mut next_frame = traj.as_ref().and(args.every).map(|_| 0.0);
+    // Frames and checkpoints at whole multiples of their interval in absolute time (a run
+    // continued from a checkpoint at T0 goes on from the first multiple at or after T0);
+    // samples at start + k * sample_every.
+    let first = |dt: f64, after_start: bool| {
+        let k = (start_time / dt).ceil();
+        if after_start && k * dt <= start_time {
+            k + 1.0
+        } else {
+            k
+        }
+    };
+    let mut frame_k = args.every.map(|dt| first(dt, false)).unwrap_or(0.0);
+    let mut next_frame = traj.as_ref().and(args.every).map(|dt| frame_k * dt);
+    let mut ck_k = args
+        .checkpoint_every
+        .map(|dt| first(dt, true))
+        .unwrap_or(0.0);
+    let mut next_ck = args.checkpoint_every.map(|dt| ck_k * dt);
+    let extra = serde_json::to_vec(&CheckpointExtra {
+        format: format_name(format).to_string(),
+    })?;
     let mut samples = 0u64;
     loop {
         let next_sample = sample_dt
-            .map(|d| (samples + 1) as f64 * d)
+            .map(|d| start_time + (samples + 1) as f64 * d)
             .filter(|t| *t <= args.until);
-        let next = [next_frame, next_sample]
+        let next = [next_frame, next_sample, next_ck]
             .into_iter()
             .flatten()
             .fold(f64::INFINITY, f64::min);
@@ -138,14 +255,25 @@ fn run_in<const D: usize>(args: &RunArgs, sys: edmd_io::LoadedSystem<D>) -> Resu
             let t = traj.as_mut().expect("frames only with a trajectory");
             edmd_io::xyz::write_frame(t.writer(), &sim.discs(), sim.sim_box(), next)?;
             frames += 1;
-            next_frame = args.every.map(|dt| frames as f64 * dt);
+            frame_k += 1.0;
+            next_frame = args.every.map(|dt| frame_k * dt);
         }
         if next_sample == Some(next) {
             obs.sample(&sim);
             samples += 1;
         }
+        if next_ck == Some(next) {
+            if let Some(p) = &args.checkpoint {
+                write_checkpoint(p, &sim, &extra)?;
+            }
+            ck_k += 1.0;
+            next_ck = args.checkpoint_every.map(|dt| ck_k * dt);
+        }
     }
     run_to(&mut sim, args.until, &progress, &mut obs)?;
+    if let Some(p) = &args.checkpoint {
+        write_checkpoint(p, &sim, &extra)?;
+    }
     let seconds = started.elapsed().as_secs_f64();
     if let Some(pb) = progress {
         pb.finish_and_clear();
@@ -160,7 +288,7 @@ fn run_in<const D: usize>(args: &RunArgs, sys: edmd_io::LoadedSystem<D>) -> Resu
     let summary = Summary {
         file: args.file.clone(),
         dim: D,
-        format: match sys.format {
+        format: match format {
             Format::Course => "course",
             Format::Princeton(_) => "princeton",
         },
@@ -173,7 +301,7 @@ fn run_in<const D: usize>(args: &RunArgs, sys: edmd_io::LoadedSystem<D>) -> Resu
         barrier_events: stats.barrier,
         seconds,
         collisions_per_second: if seconds > 0.0 {
-            stats.disc_disc as f64 / seconds
+            (stats.disc_disc - start_collisions) as f64 / seconds
         } else {
             0.0
         },
@@ -187,17 +315,11 @@ fn run_in<const D: usize>(args: &RunArgs, sys: edmd_io::LoadedSystem<D>) -> Resu
     }
     let to_stdout = args.output.as_deref() == Some("-");
     if let Some(mut f) = out_file.take() {
-        edmd_io::write(
-            f.writer(),
-            &discs,
-            sim.sim_box(),
-            sim.barriers(),
-            sys.format,
-        )?;
+        edmd_io::write(f.writer(), &discs, sim.sim_box(), sim.barriers(), format)?;
         f.commit()?;
     } else if to_stdout {
         let mut out = std::io::stdout().lock();
-        edmd_io::write(&mut out, &discs, sim.sim_box(), sim.barriers(), sys.format)?;
+        edmd_io::write(&mut out, &discs, sim.sim_box(), sim.barriers(), format)?;
         out.flush()?;
     }
     let (measured, files) = if args.measure.is_empty() {
@@ -230,6 +352,15 @@ fn run_in<const D: usize>(args: &RunArgs, sys: edmd_io::LoadedSystem<D>) -> Resu
     } else {
         crate::print_line(&text);
     }
+    Ok(())
+}
+
+/// Writes a checkpoint of `sim` to `path`, replacing the previous one atomically (a kill at any
+/// moment leaves the old one whole).
+fn write_checkpoint<const D: usize>(path: &Path, sim: &Simulation<D>, extra: &[u8]) -> Result<()> {
+    let mut f = AtomicFile::create(path)?;
+    f.writer().write_all(&sim.to_checkpoint(extra))?;
+    f.commit()?;
     Ok(())
 }
 
@@ -267,6 +398,23 @@ fn check_options(args: &RunArgs) -> Result<()> {
             ));
         }
     }
+    if let Some(dt) = args.checkpoint_every {
+        if args.until / dt > MAX_STOPS {
+            return user_error(format!(
+                "--checkpoint-every {dt:?}: {:.3e} checkpoints to t = {} is too many (at most {MAX_STOPS:.0})",
+                args.until / dt,
+                args.until
+            ));
+        }
+    }
+    if args.checkpoint.is_some() && !args.measure.is_empty() {
+        return user_error(
+            "--checkpoint with --measure: measurements are not kept in checkpoints yet; run the measurements on the continued run, or without --checkpoint",
+        );
+    }
+    if args.checkpoint.as_deref() == Some(Path::new("-")) {
+        return user_error("--checkpoint -: checkpoints are written to a file; give a file name");
+    }
     let csvs: Vec<PathBuf> = args
         .measure
         .iter()
@@ -282,7 +430,29 @@ fn check_options(args: &RunArgs) -> Result<()> {
     for c in &csvs {
         outputs.push(("a --measure file", c));
     }
-    check_distinct(&[("the input file", Path::new(&args.file))], &outputs)
+    // A checkpoint may replace the checkpoint it continues from (atomically), but no other
+    // input and no other output.
+    let input = Path::new(&args.file);
+    let continuing_in_place = args.checkpoint.as_deref().is_some_and(|c| {
+        same_file(c, input) && read_checkpoint(&args.file).ok().flatten().is_some()
+    });
+    if let Some(c) = &args.checkpoint {
+        if !continuing_in_place {
+            outputs.push(("--checkpoint", c));
+        } else {
+            check_distinct(&[("the checkpoint", c.as_path())], &outputs)?;
+        }
+    }
+    check_distinct(&[("the input file", input)], &outputs)
+}
+
+/// Whether two paths name the same existing file.
+fn same_file(a: &Path, b: &Path) -> bool {
+    use std::os::unix::fs::MetadataExt;
+    match (std::fs::metadata(a), std::fs::metadata(b)) {
+        (Ok(x), Ok(y)) => x.dev() == y.dev() && x.ino() == y.ino(),
+        _ => false,
+    }
 }
 
 fn human(s: &Summary) -> String {

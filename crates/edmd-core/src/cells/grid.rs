@@ -297,6 +297,59 @@ impl<const D: usize> CellGrid<D> {
         }
     }
 
+    /// The grid's lists as they stand: cell heads, per-disc next and previous, and each disc's
+    /// cell (for checkpoints).
+    #[allow(clippy::type_complexity)]
+    pub(crate) fn lists(&self) -> (&[u32], &[u32], &[u32], &[CellCoord<D>]) {
+        (&self.head, &self.next, &self.prev, &self.cell)
+    }
+
+    /// Puts back lists taken by [`Self::lists`] from a grid built the same way, after checking
+    /// that they are consistent: the same number of cells, every disc in exactly one list, the
+    /// list of the cell it says it is in, with matching back links.
+    pub(crate) fn restore(
+        &mut self,
+        head: Vec<u32>,
+        next: Vec<u32>,
+        prev: Vec<u32>,
+        cell: Vec<CellCoord<D>>,
+    ) -> Result<(), String> {
+        let n = self.next.len();
+        if head.len() != self.head.len() || next.len() != n || prev.len() != n || cell.len() != n {
+            return Err(format!(
+                "{} cells and {} discs where the box makes {} and {n}",
+                head.len(),
+                next.len(),
+                self.head.len()
+            ));
+        }
+        let mut seen = vec![false; n];
+        for (k, &h) in head.iter().enumerate() {
+            let mut j = h;
+            let mut before = NONE;
+            while j != NONE {
+                let i = j as usize;
+                if i >= n || seen[i] {
+                    return Err(format!("cell {k} lists disc {j} wrongly"));
+                }
+                seen[i] = true;
+                if (0..D).any(|a| cell[i][a] >= self.dims[a]) || self.linear(cell[i]) != k {
+                    return Err(format!("disc {i} is listed in cell {k} but says otherwise"));
+                }
+                if prev[i] != before {
+                    return Err(format!("disc {i} has a wrong back link"));
+                }
+                before = j;
+                j = next[i];
+            }
+        }
+        if let Some(i) = seen.iter().position(|s| !s) {
+            return Err(format!("disc {i} is in no cell"));
+        }
+        (self.head, self.next, self.prev, self.cell) = (head, next, prev, cell);
+        Ok(())
+    }
+
     /// Bytes held by the grid.
     pub fn memory_bytes(&self) -> usize {
         self.head.capacity() * 4

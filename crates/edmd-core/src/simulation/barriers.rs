@@ -114,7 +114,7 @@ impl<const D: usize> Simulation<D> {
     }
 }
 
-pub(super) fn validate_barriers<const D: usize>(
+pub(crate) fn validate_barriers<const D: usize>(
     barriers: &[Barrier],
     sim_box: &SimBox<D>,
 ) -> Result<(), Error> {

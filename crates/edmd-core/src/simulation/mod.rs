@@ -32,11 +32,13 @@ mod check;
 mod cluster;
 mod event_loop;
 mod options;
+mod persist;
 mod predict;
 
 pub use check::OverlapReport;
 pub use event_loop::x86_64_v3_available;
 pub use options::{MultiContact, Options, OverlapPolicy, Stats, OVERLAP_TOLERANCE};
+pub use persist::{checkpoint_dim, is_checkpoint, FORMAT_VERSION as CHECKPOINT_VERSION};
 
 use crate::cells::CellGrid;
 use crate::error::Error;

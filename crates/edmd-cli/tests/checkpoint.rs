@@ -1,0 +1,183 @@
+//! `edmd run --checkpoint`: a run stopped and continued from its checkpoint ends bit for bit
+//! where the uninterrupted run ends, and damaged checkpoints are refused in one line.
+
+use serde_json::Value;
+
+use crate::support::{example, ok_stdout, run};
+
+fn summary(out: &std::process::Output) -> Value {
+    serde_json::from_str(ok_stdout(out).trim()).expect("one JSON object")
+}
+
+fn refused(out: &std::process::Output, words: &[&str]) {
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{err}");
+    assert_eq!(err.trim().lines().count(), 1, "{err}");
+    for w in words {
+        assert!(err.contains(w), "{err:?} lacks {w:?}");
+    }
+}
+
+/// Runs `file` to `t2` directly, and to `t1` with checkpoints then on to `t2` from the
+/// checkpoint (twice, the second time replacing the checkpoint in place), and compares.
+fn chain(file: &str, t1: &str, t2: &str, every: &str) {
+    let dir = tempfile::tempdir().unwrap();
+    let p = |name: &str| dir.path().join(name).to_str().unwrap().to_string();
+    let direct = summary(&run(
+        "edmd",
+        &["run", file, "--until", t2, "-o", &p("direct.txt"), "--json"],
+        None,
+    ));
+    ok_stdout(&run(
+        "edmd",
+        &[
+            "run",
+            file,
+            "--until",
+            t1,
+            "--checkpoint",
+            &p("ck"),
+            "--checkpoint-every",
+            every,
+        ],
+        None,
+    ));
+    let resumed = summary(&run(
+        "edmd",
+        &[
+            "run",
+            &p("ck"),
+            "--until",
+            t2,
+            "-o",
+            &p("resumed.txt"),
+            "--json",
+        ],
+        None,
+    ));
+    for key in [
+        "disc_collisions",
+        "wall_collisions",
+        "cell_crossings",
+        "stale_events",
+        "n",
+        "dim",
+    ] {
+        assert_eq!(resumed[key], direct[key], "{file}: {key}");
+    }
+    let a = std::fs::read(p("direct.txt")).unwrap();
+    assert_eq!(
+        std::fs::read(p("resumed.txt")).unwrap(),
+        a,
+        "{file}: final states differ"
+    );
+    // Continuing in place: the checkpoint is replaced by the later one.
+    ok_stdout(&run(
+        "edmd",
+        &["run", &p("ck"), "--until", t2, "--checkpoint", &p("ck")],
+        None,
+    ));
+    ok_stdout(&run(
+        "edmd",
+        &["run", &p("ck"), "--until", t2, "-o", &p("again.txt")],
+        None,
+    ));
+    assert_eq!(
+        std::fs::read(p("again.txt")).unwrap(),
+        a,
+        "{file}: in place"
+    );
+}
+
+#[test]
+fn a_continued_run_ends_where_the_uninterrupted_one_does() {
+    chain(example("gas-300.txt").to_str().unwrap(), "7.3", "20", "2");
+    chain(
+        example("spheres-500.txt").to_str().unwrap(),
+        "1.1",
+        "3",
+        "0.5",
+    );
+    chain(example("course-7.txt").to_str().unwrap(), "3", "9", "1");
+}
+
+#[test]
+fn damaged_or_misused_checkpoints_are_refused_in_one_line() {
+    let dir = tempfile::tempdir().unwrap();
+    let ck = dir.path().join("ck");
+    let ck_s = ck.to_str().unwrap();
+    let gas = example("gas-300.txt");
+    ok_stdout(&run(
+        "edmd",
+        &[
+            "run",
+            gas.to_str().unwrap(),
+            "--until",
+            "2",
+            "--checkpoint",
+            ck_s,
+        ],
+        None,
+    ));
+    let good = std::fs::read(&ck).unwrap();
+    let write = |name: &str, bytes: &[u8]| {
+        let f = dir.path().join(name);
+        std::fs::write(&f, bytes).unwrap();
+        f.to_str().unwrap().to_string()
+    };
+    let truncated = write("t", &good[..good.len() / 2]);
+    refused(
+        &run("edmd", &["run", &truncated, "--until", "5"], None),
+        &["checkpoint", "truncated"],
+    );
+    let mut flipped = good.clone();
+    flipped[good.len() / 2] ^= 0x10;
+    let flipped = write("f", &flipped);
+    refused(
+        &run("edmd", &["run", &flipped, "--until", "5"], None),
+        &["checkpoint", "checksum"],
+    );
+    let mut newer = good.clone();
+    newer[8] = 9;
+    let newer = write("n", &newer);
+    refused(
+        &run("edmd", &["run", &newer, "--until", "5"], None),
+        &["newer"],
+    );
+    refused(
+        &run("edmd", &["run", ck_s, "--until", "1"], None),
+        &["t = 2"],
+    );
+    refused(
+        &run("edmd", &["run", ck_s, "--until", "5", "--multi"], None),
+        &["carries its run's options"],
+    );
+    refused(
+        &run(
+            "edmd",
+            &[
+                "run",
+                gas.to_str().unwrap(),
+                "--until",
+                "5",
+                "--checkpoint",
+                ck_s,
+                "--measure",
+                "pressure",
+            ],
+            None,
+        ),
+        &["--measure"],
+    );
+    // The checkpoint may not replace the input data file or another output.
+    let data = write("data.txt", &std::fs::read(&gas).unwrap());
+    refused(
+        &run(
+            "edmd",
+            &["run", &data, "--until", "1", "--checkpoint", &data],
+            None,
+        ),
+        &["input"],
+    );
+    assert_eq!(std::fs::read(&data).unwrap(), std::fs::read(&gas).unwrap());
+}

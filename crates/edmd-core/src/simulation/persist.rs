@@ -1,0 +1,562 @@
+//! Exact checkpoints: the whole engine state as bytes, and back.
+//!
+//! A checkpoint holds every disc's own clock, position and velocity at that clock (the bits,
+//! not a rounded copy), its counter and pending event, mass, radius, colour, species and
+//! periodic images; the cell grid's lists in their order (the order in which a prediction
+//! meets candidates decides exact ties); the counters, the options, the barriers, and bytes the
+//! caller adds (the command line keeps its run's options and measurements there). The event
+//! queue is rebuilt from the discs' event times: it hands out events by `(time, disc)` whatever
+//! its internal layout, so the rebuilt queue gives the same events in the same order. A run
+//! continued from a checkpoint is therefore bit for bit the run that was never stopped.
+//!
+//! The file is `EDMDCKPT`, a format version, the dimension, the payload length, the payload,
+//! and a CRC-32 of everything before it, all little-endian. Reading checks the magic number,
+//! the version, the dimension, the length and the checksum, and then every index and count in
+//! the payload, so a truncated, corrupted or foreign file is an [`Error::Checkpoint`] naming
+//! what is wrong, never a panic or a wrong run.
+
+use crate::cells::CellGrid;
+use crate::error::Error;
+use crate::events::{Pending, Side};
+use crate::math::Vector;
+use crate::resolve::CollisionRule;
+use crate::schedule::{CalendarQueue, EventQueue};
+use crate::state::{Barrier, Boundary, Demon, SimBox};
+
+use super::{Body, MultiContact, Simulation, Stats};
+
+/// The first bytes of every checkpoint.
+pub const MAGIC: &[u8; 8] = b"EDMDCKPT";
+
+/// The checkpoint format this build writes and reads.
+pub const FORMAT_VERSION: u32 = 1;
+
+/// Header bytes: magic, version, dimension, payload length.
+const HEADER: usize = 8 + 4 + 4 + 8;
+
+/// Whether `bytes` start like a checkpoint (the magic number).
+pub fn is_checkpoint(bytes: &[u8]) -> bool {
+    bytes.starts_with(MAGIC)
+}
+
+/// The dimension a checkpoint holds, after checking its frame (magic, version, length,
+/// checksum).
+pub fn checkpoint_dim(bytes: &[u8]) -> Result<usize, Error> {
+    frame(bytes).map(|(dim, _)| dim)
+}
+
+/// Checks the frame and returns the dimension and the payload.
+fn frame(bytes: &[u8]) -> Result<(usize, &[u8]), Error> {
+    let bad = |what: String| Err(Error::Checkpoint(what));
+    if bytes.len() < MAGIC.len() || !bytes.starts_with(MAGIC) {
+        return bad("not an edmd checkpoint (no EDMDCKPT magic number)".into());
+    }
+    if bytes.len() < HEADER + 4 {
+        return bad(format!(
+            "truncated: {} bytes, shorter than the header",
+            bytes.len()
+        ));
+    }
+    let word = |at: usize| u32::from_le_bytes(bytes[at..at + 4].try_into().expect("4 bytes"));
+    let version = word(8);
+    if version != FORMAT_VERSION {
+        return bad(if version > FORMAT_VERSION {
+            format!("format version {version} is newer than this edmd reads ({FORMAT_VERSION}); use a newer edmd")
+        } else {
+            format!("format version {version} is not one this edmd reads ({FORMAT_VERSION})")
+        });
+    }
+    let dim = word(12) as usize;
+    if dim != 2 && dim != 3 {
+        return bad(format!("dimension {dim} (2 or 3 expected)"));
+    }
+    let len = u64::from_le_bytes(bytes[16..24].try_into().expect("8 bytes"));
+    let expected = (HEADER as u64).saturating_add(len).saturating_add(4);
+    if bytes.len() as u64 != expected {
+        return bad(format!(
+            "truncated or extended: {} bytes where the header says {expected}",
+            bytes.len()
+        ));
+    }
+    let body_end = bytes.len() - 4;
+    let stored = u32::from_le_bytes(bytes[body_end..].try_into().expect("4 bytes"));
+    if crc32fast::hash(&bytes[..body_end]) != stored {
+        return bad("corrupted: the checksum does not match".into());
+    }
+    Ok((dim, &bytes[HEADER..body_end]))
+}
+
+/// Little-endian writer.
+struct Writer(Vec<u8>);
+
+impl Writer {
+    fn u8(&mut self, x: u8) {
+        self.0.push(x);
+    }
+    fn u32(&mut self, x: u32) {
+        self.0.extend_from_slice(&x.to_le_bytes());
+    }
+    fn u64(&mut self, x: u64) {
+        self.0.extend_from_slice(&x.to_le_bytes());
+    }
+    fn f64(&mut self, x: f64) {
+        self.u64(x.to_bits());
+    }
+    fn len(&mut self, n: usize) {
+        self.u64(n as u64);
+    }
+    fn bytes(&mut self, b: &[u8]) {
+        self.len(b.len());
+        self.0.extend_from_slice(b);
+    }
+}
+
+/// Little-endian reader; every read past the end is an error.
+struct Reader<'a> {
+    bytes: &'a [u8],
+    at: usize,
+}
+
+impl<'a> Reader<'a> {
+    fn take(&mut self, k: usize) -> Result<&'a [u8], Error> {
+        if self.bytes.len() - self.at < k {
+            return Err(Error::Checkpoint("truncated payload".into()));
+        }
+        let s = &self.bytes[self.at..self.at + k];
+        self.at += k;
+        Ok(s)
+    }
+    fn u8(&mut self) -> Result<u8, Error> {
+        Ok(self.take(1)?[0])
+    }
+    fn u32(&mut self) -> Result<u32, Error> {
+        Ok(u32::from_le_bytes(self.take(4)?.try_into().expect("4")))
+    }
+    fn u64(&mut self) -> Result<u64, Error> {
+        Ok(u64::from_le_bytes(self.take(8)?.try_into().expect("8")))
+    }
+    fn f64(&mut self) -> Result<f64, Error> {
+        self.u64().map(f64::from_bits)
+    }
+    /// A count of items of `size` bytes each that must fit in what is left.
+    fn len(&mut self, size: usize) -> Result<usize, Error> {
+        let n = self.u64()?;
+        let left = (self.bytes.len() - self.at) as u64;
+        if n.saturating_mul(size.max(1) as u64) > left {
+            return Err(Error::Checkpoint(format!(
+                "a count of {n} does not fit in the {left} bytes left"
+            )));
+        }
+        Ok(n as usize)
+    }
+    fn bytes(&mut self) -> Result<&'a [u8], Error> {
+        let n = self.len(1)?;
+        self.take(n)
+    }
+}
+
+fn bad<T>(what: impl Into<String>) -> Result<T, Error> {
+    Err(Error::Checkpoint(what.into()))
+}
+
+fn side(x: u8) -> Result<Side, Error> {
+    match x {
+        0 => Ok(Side::Low),
+        1 => Ok(Side::High),
+        _ => bad(format!("side {x}")),
+    }
+}
+
+fn side_code(s: Side) -> u8 {
+    match s {
+        Side::Low => 0,
+        Side::High => 1,
+    }
+}
+
+impl<const D: usize> Simulation<D> {
+    /// The whole state as a checkpoint file's bytes, with `extra` bytes of the caller's kept
+    /// alongside (returned by [`Self::from_checkpoint`]).
+    pub fn to_checkpoint(&self, extra: &[u8]) -> Vec<u8> {
+        let mut w = Writer(Vec::with_capacity(
+            HEADER + 128 * self.body.len() + extra.len(),
+        ));
+        w.0.extend_from_slice(MAGIC);
+        w.u32(FORMAT_VERSION);
+        w.u32(D as u32);
+        w.u64(0); // the payload length, filled in below
+        for a in 0..D {
+            w.f64(self.sim_box.lengths[a]);
+            w.u8((self.sim_box.boundaries[a] == Boundary::Periodic) as u8);
+        }
+        w.u8(match self.rule {
+            CollisionRule::Elastic => 0,
+            CollisionRule::Swap => 1,
+        });
+        match self.multi {
+            None => w.u8(0),
+            Some(m) => {
+                w.u8(1);
+                w.f64(m.tolerance);
+                w.f64(m.exponent);
+            }
+        }
+        w.f64(self.event_time);
+        w.f64(self.now);
+        for c in [
+            self.stats.disc_disc,
+            self.stats.wall,
+            self.stats.cell_crossing,
+            self.stats.stale,
+            self.stats.barrier,
+        ] {
+            w.u64(c);
+        }
+        w.len(self.adjusted);
+        w.f64(self.mean_mv2);
+        w.len(self.barriers.len());
+        for b in &self.barriers {
+            w.u8(b.axis as u8);
+            w.f64(b.position);
+            match b.door {
+                None => w.u8(0),
+                Some((lo, hi)) => {
+                    w.u8(1);
+                    w.f64(lo);
+                    w.f64(hi);
+                }
+            }
+            match b.demon {
+                None => w.u8(0),
+                Some(d) => {
+                    w.u8(1);
+                    w.f64(d.fast);
+                    w.f64(d.slow);
+                }
+            }
+        }
+        let n = self.body.len();
+        w.len(n);
+        for i in 0..n {
+            let b = &self.body[i];
+            for a in 0..D {
+                w.f64(b.pos[a]);
+            }
+            for a in 0..D {
+                w.f64(b.vel[a]);
+            }
+            w.f64(b.time);
+            w.f64(b.radius);
+            w.u32(b.count);
+            match b.pending {
+                Pending::Nothing => w.u8(0),
+                Pending::Disc { partner, seen } => {
+                    w.u8(1);
+                    w.u32(partner);
+                    w.u32(seen);
+                }
+                Pending::Wall { axis, side } => {
+                    w.u8(2);
+                    w.u8(axis);
+                    w.u8(side_code(side));
+                }
+                Pending::Cell { axis, side } => {
+                    w.u8(3);
+                    w.u8(axis);
+                    w.u8(side_code(side));
+                }
+                Pending::Barrier { index, part } => {
+                    w.u8(4);
+                    w.u32(index as u32);
+                    w.u8(part);
+                }
+            }
+            w.f64(self.queue.get(i));
+            w.f64(self.mass[i]);
+            for c in self.colour[i] {
+                w.u8(c);
+            }
+            w.u32(self.species[i] as u32);
+            for a in 0..D {
+                w.u32(self.image[i][a] as u32);
+            }
+            if !self.below.is_empty() {
+                w.u8(self.below[i]);
+            }
+        }
+        let (head, next, prev, cell) = self.grid.lists();
+        w.len(head.len());
+        for &h in head {
+            w.u32(h);
+        }
+        for i in 0..n {
+            w.u32(next[i]);
+            w.u32(prev[i]);
+            for a in 0..D {
+                w.u32(cell[i][a]);
+            }
+        }
+        w.len(self.last_cluster.len());
+        for &k in &self.last_cluster {
+            w.len(k);
+        }
+        w.bytes(extra);
+        let payload = (w.0.len() - HEADER) as u64;
+        w.0[16..24].copy_from_slice(&payload.to_le_bytes());
+        let crc = crc32fast::hash(&w.0);
+        w.u32(crc);
+        w.0
+    }
+
+    /// A simulation continued from checkpoint bytes, and the caller's extra bytes. Fails with
+    /// [`Error::Checkpoint`] on anything that is not a whole, intact checkpoint of dimension
+    /// `D` written by this format version.
+    pub fn from_checkpoint(bytes: &[u8]) -> Result<(Self, Vec<u8>), Error> {
+        let (dim, payload) = frame(bytes)?;
+        if dim != D {
+            return bad(format!("a {dim}D checkpoint, read as {D}D"));
+        }
+        let mut r = Reader {
+            bytes: payload,
+            at: 0,
+        };
+        let mut lengths = [0.0; D];
+        let mut boundaries = [Boundary::Walls; D];
+        for a in 0..D {
+            lengths[a] = r.f64()?;
+            boundaries[a] = match r.u8()? {
+                0 => Boundary::Walls,
+                1 => Boundary::Periodic,
+                x => return bad(format!("boundary code {x}")),
+            };
+            if !(lengths[a].is_finite() && lengths[a] > 0.0) {
+                return bad(format!("box length {}", lengths[a]));
+            }
+        }
+        let sim_box = SimBox {
+            lengths,
+            boundaries,
+        };
+        let rule = match r.u8()? {
+            0 => CollisionRule::Elastic,
+            1 => CollisionRule::Swap,
+            x => return bad(format!("collision rule code {x}")),
+        };
+        let multi = match r.u8()? {
+            0 => None,
+            1 => Some(MultiContact {
+                tolerance: r.f64()?,
+                exponent: r.f64()?,
+            }),
+            x => return bad(format!("multi-contact code {x}")),
+        };
+        if let Some(mc) = multi {
+            let ok = mc.tolerance.is_finite()
+                && (0.0..0.5).contains(&mc.tolerance)
+                && (1.0..=3.0).contains(&mc.exponent)
+                && rule == CollisionRule::Elastic;
+            if !ok {
+                return bad(format!("multi-contact options {mc:?} with {rule:?}"));
+            }
+        }
+        let event_time = r.f64()?;
+        let now = r.f64()?;
+        if !(event_time.is_finite() && now.is_finite() && now >= event_time) {
+            return bad(format!("clock {event_time} / {now}"));
+        }
+        let stats = Stats {
+            disc_disc: r.u64()?,
+            wall: r.u64()?,
+            cell_crossing: r.u64()?,
+            stale: r.u64()?,
+            barrier: r.u64()?,
+        };
+        let adjusted = r.u64()? as usize;
+        let mean_mv2 = r.f64()?;
+        let nb = r.len(10)?;
+        let mut barriers = Vec::with_capacity(nb);
+        for _ in 0..nb {
+            let axis = r.u8()? as usize;
+            let mut b = Barrier::solid(axis, r.f64()?);
+            if r.u8()? == 1 {
+                b.door = Some((r.f64()?, r.f64()?));
+            }
+            if r.u8()? == 1 {
+                b.demon = Some(Demon {
+                    fast: r.f64()?,
+                    slow: r.f64()?,
+                });
+            }
+            barriers.push(b);
+        }
+        super::barriers::validate_barriers(&barriers, &sim_box)
+            .map_err(|e| Error::Checkpoint(format!("barriers: {e}")))?;
+        let n = r.len(8 * (2 * D + 5))?;
+        if n >= u32::MAX as usize {
+            return bad(format!("{n} discs"));
+        }
+        let mut body = Vec::with_capacity(n);
+        let (mut mass, mut colour, mut species, mut image, mut below, mut times) = (
+            Vec::with_capacity(n),
+            Vec::with_capacity(n),
+            Vec::with_capacity(n),
+            Vec::with_capacity(n),
+            Vec::new(),
+            Vec::with_capacity(n),
+        );
+        for i in 0..n {
+            let mut pos = Vector::ZERO;
+            let mut vel = Vector::ZERO;
+            for a in 0..D {
+                pos[a] = r.f64()?;
+            }
+            for a in 0..D {
+                vel[a] = r.f64()?;
+            }
+            let time = r.f64()?;
+            let radius = r.f64()?;
+            let count = r.u32()?;
+            let pending = match r.u8()? {
+                0 => Pending::Nothing,
+                1 => {
+                    let partner = r.u32()?;
+                    let seen = r.u32()?;
+                    if partner as usize >= n {
+                        return bad(format!("disc {i}: partner {partner} of {n}"));
+                    }
+                    Pending::Disc { partner, seen }
+                }
+                k @ (2 | 3) => {
+                    let axis = r.u8()?;
+                    let s = side(r.u8()?)?;
+                    if axis as usize >= D {
+                        return bad(format!("disc {i}: axis {axis}"));
+                    }
+                    if k == 2 {
+                        Pending::Wall { axis, side: s }
+                    } else {
+                        Pending::Cell { axis, side: s }
+                    }
+                }
+                4 => {
+                    let index = r.u32()?;
+                    let part = r.u8()?;
+                    if index as usize >= barriers.len() || part > 3 {
+                        return bad(format!("disc {i}: barrier event {index}/{part}"));
+                    }
+                    Pending::Barrier {
+                        index: index as u16,
+                        part,
+                    }
+                }
+                x => return bad(format!("disc {i}: event code {x}")),
+            };
+            let finite = (0..D).all(|a| pos[a].is_finite() && vel[a].is_finite());
+            if !finite || !time.is_finite() || !(radius.is_finite() && radius > 0.0) {
+                return bad(format!(
+                    "disc {i}: a position, velocity, clock or radius that is not a finite number"
+                ));
+            }
+            let t = r.f64()?;
+            if t.is_nan() || t < event_time {
+                return bad(format!(
+                    "disc {i}: event time {t} before the clock {event_time}"
+                ));
+            }
+            times.push(t);
+            let m = r.f64()?;
+            if !(m.is_finite() && m > 0.0) {
+                return bad(format!("disc {i}: mass {m}"));
+            }
+            mass.push(m);
+            colour.push([r.u8()?, r.u8()?, r.u8()?]);
+            let sp = r.u32()?;
+            species.push(u16::try_from(sp).or_else(|_| bad(format!("disc {i}: species {sp}")))?);
+            let mut im = [0i32; D];
+            for a in 0..D {
+                im[a] = r.u32()? as i32;
+            }
+            image.push(im);
+            if !barriers.is_empty() {
+                below.push(r.u8()?);
+            }
+            body.push(Body {
+                pos,
+                vel,
+                time,
+                radius,
+                count,
+                pending,
+            });
+        }
+        if rule == CollisionRule::Swap && mass.iter().any(|&m| m != mass[0]) {
+            return bad("the swap rule with unequal masses");
+        }
+        let max_diameter = body.iter().map(|b| 2.0 * b.radius).fold(0.0, f64::max);
+        let mut grid = CellGrid::new(&sim_box, n, if n == 0 { 1.0 } else { max_diameter })
+            .map_err(|e| Error::Checkpoint(format!("cell grid: {e}")))?;
+        let cells = r.len(4)?;
+        let mut head = Vec::with_capacity(cells);
+        for _ in 0..cells {
+            head.push(r.u32()?);
+        }
+        let (mut next, mut prev, mut cell) = (
+            Vec::with_capacity(n),
+            Vec::with_capacity(n),
+            Vec::with_capacity(n),
+        );
+        for _ in 0..n {
+            next.push(r.u32()?);
+            prev.push(r.u32()?);
+            let mut c = [0u32; D];
+            for a in 0..D {
+                c[a] = r.u32()?;
+            }
+            cell.push(c);
+        }
+        grid.restore(head, next, prev, cell)
+            .map_err(|what| Error::Checkpoint(format!("cell grid: {what}")))?;
+        let k = r.len(8)?;
+        let mut last_cluster = Vec::with_capacity(k);
+        for _ in 0..k {
+            let d = r.u64()? as usize;
+            if d >= n {
+                return bad(format!("cluster disc {d} of {n}"));
+            }
+            last_cluster.push(d);
+        }
+        let extra = r.bytes()?.to_vec();
+        if r.at != payload.len() {
+            return bad("bytes after the end of the state");
+        }
+        let mut queue = CalendarQueue::with_len(n);
+        queue.begin_bulk();
+        for (i, &t) in times.iter().enumerate() {
+            queue.set(i, t);
+        }
+        queue.end_bulk(event_time);
+        let mut sim = Simulation {
+            sim_box,
+            rule,
+            body,
+            mass,
+            colour,
+            species,
+            image,
+            queue,
+            grid,
+            event_time,
+            now,
+            stats,
+            adjusted,
+            barriers,
+            below,
+            mean_mv2,
+            multi,
+            last_cluster,
+            v3: false,
+        };
+        sim.set_portable_loop(false);
+        Ok((sim, extra))
+    }
+}

@@ -1,0 +1,148 @@
+//! Exact checkpoints: a run stopped at T1, saved, read back and continued to T2 is bit for bit
+//! the run that went straight to T2 (the whole saved state at T2 is the same bytes), for walls
+//! and periodic boxes, barriers with a demon, multi-disc collisions and spheres; and no damaged
+//! checkpoint is ever read as a state.
+
+use edmd_core::setup::generators::{generate, GenKind};
+use edmd_core::setup::lattice::lattice_fluid_in;
+use edmd_core::{
+    checkpoint_dim, Barrier, Boundary, Demon, Error, MultiContact, Options, SimBox, Simulation,
+};
+
+use crate::support::random_discs;
+
+/// Runs `sim` to `t1`, checkpoints, reads back, runs both the original and the copy to `t2`
+/// (the original never stopped: `run_until(t1)` changes nothing but the observation time), and
+/// compares the final states byte for byte, the event counts and the extra bytes.
+fn continues_exactly<const D: usize>(mut sim: Simulation<D>, t1: f64, t2: f64, what: &str) {
+    let mut straight = sim.clone();
+    straight.run_until(t2, &mut ());
+    sim.run_until(t1, &mut ());
+    let bytes = sim.to_checkpoint(b"extra");
+    assert_eq!(checkpoint_dim(&bytes).unwrap(), D);
+    let (mut resumed, extra) = Simulation::<D>::from_checkpoint(&bytes).unwrap();
+    assert_eq!(extra, b"extra");
+    assert_eq!(
+        resumed.to_checkpoint(b""),
+        sim.to_checkpoint(b""),
+        "{what}: read back differs"
+    );
+    resumed.run_until(t2, &mut ());
+    sim.run_until(t2, &mut ());
+    assert!(
+        straight.stats().disc_disc > 100,
+        "{what}: too few collisions to tell"
+    );
+    assert_eq!(resumed.stats(), straight.stats(), "{what}: event counts");
+    assert_eq!(
+        resumed.to_checkpoint(b""),
+        straight.to_checkpoint(b""),
+        "{what}: the continued run differs from the uninterrupted one"
+    );
+    assert_eq!(
+        sim.to_checkpoint(b""),
+        straight.to_checkpoint(b""),
+        "{what}: stopping changed the run"
+    );
+}
+
+#[test]
+fn restarts_are_exact_with_walls_and_periodic_boxes() {
+    for (boundary, seed) in [(Boundary::Walls, 1), (Boundary::Periodic, 2)] {
+        let (discs, bx) = lattice_fluid_in::<2>(400, 0.5, boundary, seed).unwrap();
+        let sim = Simulation::new(&discs, bx, Options::default()).unwrap();
+        continues_exactly(sim, 3.3, 7.1, &format!("{boundary:?}"));
+    }
+    // Discs of different sizes and masses.
+    let discs = random_discs(200, 30.0, 0.2, 0.8, true, 3);
+    let sim = Simulation::new(&discs, SimBox::walls([30.0, 30.0]), Options::default()).unwrap();
+    continues_exactly(sim, 11.0, 25.0, "mixed sizes");
+}
+
+#[test]
+fn restarts_are_exact_with_barriers_a_demon_and_multi_disc_collisions() {
+    let discs = random_discs(150, 20.0, 0.3, 0.3, true, 4);
+    let discs: Vec<_> = discs
+        .into_iter()
+        .filter(|d| (d.pos[0] - 10.0).abs() > 0.4)
+        .collect();
+    let door = Barrier {
+        door: Some((8.0, 12.0)),
+        demon: Some(Demon {
+            fast: 1.0,
+            slow: 1.0,
+        }),
+        ..Barrier::solid(0, 10.0)
+    };
+    let sim = Simulation::with_barriers(
+        &discs,
+        SimBox::walls([20.0, 20.0]),
+        &[door],
+        Options::default(),
+    )
+    .unwrap();
+    continues_exactly(sim, 5.0, 40.0, "demon");
+    let system = generate(&GenKind::from_name("dense").unwrap(), 5).unwrap();
+    let options = Options {
+        multi: Some(MultiContact::default()),
+        ..Options::default()
+    };
+    let sim = Simulation::from_system(&system, options).unwrap();
+    continues_exactly(sim, 30.0, 200.0, "multi");
+}
+
+#[test]
+fn restarts_are_exact_for_spheres() {
+    let (discs, bx) = lattice_fluid_in::<3>(500, 0.4, Boundary::Periodic, 6).unwrap();
+    let sim = Simulation::new(&discs, bx, Options::default()).unwrap();
+    continues_exactly(sim, 1.7, 3.9, "spheres");
+    assert!(matches!(
+        Simulation::<2>::from_checkpoint(&Simulation::new(&discs, bx, Options::default()).unwrap().to_checkpoint(b"")),
+        Err(Error::Checkpoint(m)) if m.contains("3D checkpoint")
+    ));
+}
+
+#[test]
+fn damaged_checkpoints_are_refused_never_read() {
+    // Every truncation, every single flipped bit in a small checkpoint, a newer version and
+    // foreign bytes: each an Error::Checkpoint, no panic.
+    let discs = random_discs(6, 10.0, 0.3, 0.5, true, 7);
+    let mut sim = Simulation::new(&discs, SimBox::walls([10.0, 10.0]), Options::default()).unwrap();
+    sim.run_until(2.0, &mut ());
+    let good = sim.to_checkpoint(b"options");
+    assert!(Simulation::<2>::from_checkpoint(&good).is_ok());
+    for len in 0..good.len() {
+        assert!(
+            matches!(
+                Simulation::<2>::from_checkpoint(&good[..len]),
+                Err(Error::Checkpoint(_))
+            ),
+            "{len}"
+        );
+    }
+    for byte in 0..good.len() {
+        for bit in 0..8 {
+            let mut bad = good.clone();
+            bad[byte] ^= 1 << bit;
+            assert!(
+                matches!(
+                    Simulation::<2>::from_checkpoint(&bad),
+                    Err(Error::Checkpoint(_))
+                ),
+                "flipping bit {bit} of byte {byte} was not noticed"
+            );
+        }
+    }
+    let mut newer = good.clone();
+    newer[8..12].copy_from_slice(&2u32.to_le_bytes());
+    match Simulation::<2>::from_checkpoint(&newer) {
+        Err(Error::Checkpoint(m)) => assert!(m.contains("newer"), "{m}"),
+        other => panic!("{other:?}"),
+    }
+    for foreign in [&b"2\n0.5 0.5 0 0 0.1 1 0 0 0\n"[..], b"", b"EDMDCKPT"] {
+        assert!(matches!(
+            Simulation::<2>::from_checkpoint(foreign),
+            Err(Error::Checkpoint(_))
+        ));
+    }
+}
