@@ -98,9 +98,10 @@ pub struct RunArgs {
     /// columns.
     #[arg(long, value_enum)]
     pub columns: Option<ColumnsArg>,
-    /// Collision rule.
-    #[arg(long, value_enum, default_value_t = RuleArg::Elastic)]
-    pub rule: RuleArg,
+    /// Collision rule (default: swap for course files, as the course's `particles` does;
+    /// elastic for every other file).
+    #[arg(long, value_enum)]
+    pub rule: Option<RuleArg>,
     /// Run a file with overlapping discs or discs outside the box: discs outside are moved in to
     /// touch the wall, overlapping pairs that approach collide at once, separating ones pass
     /// freely until apart.
@@ -130,19 +131,14 @@ pub struct RunArgs {
     /// run's summary.
     #[arg(long, value_enum, value_delimiter = ',')]
     pub measure: Vec<crate::commands::measurements::Measure>,
-    /// Interval between measurement samples (default: a hundredth of --until).
-    #[arg(long, value_name = "DT", value_parser = parse_positive, requires = "measure", allow_negative_numbers = true)]
+    /// Interval between measurement samples (default: a hundredth of the run's length). With
+    /// --measure, or on a checkpoint that carries measurements.
+    #[arg(long, value_name = "DT", value_parser = parse_positive, allow_negative_numbers = true)]
     pub sample_every: Option<f64>,
     /// Folder for the measurement CSV files (as in `edmd experiment`; the old spelling
     /// `--measure-dir` still works).
-    #[arg(
-        long = "out-dir",
-        alias = "measure-dir",
-        value_name = "DIR",
-        default_value = ".",
-        requires = "measure"
-    )]
-    pub measure_dir: PathBuf,
+    #[arg(long = "out-dir", alias = "measure-dir", value_name = "DIR")]
+    pub measure_dir: Option<PathBuf>,
     /// Print the summary as one JSON object on standard output.
     #[arg(long)]
     pub json: bool,

@@ -729,3 +729,51 @@ fn columns_on_a_course_file_is_refused() {
     // Without --columns the file runs.
     crate::support::ok_stdout(&run("edmd", &["run", &f, "--until", "1"], None));
 }
+
+// 7. `edmd run` on a course-format file used the elastic rule unless told `--rule swap`, so by
+// default it disagreed with `particles` on the same file. The course file's own rule (swap) is
+// now the default for course files.
+#[test]
+fn run_on_a_course_file_agrees_with_particles_by_default() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out.txt");
+    let normal = shared("assignment/normal.txt");
+    let normal = normal.to_str().unwrap();
+    crate::support::ok_stdout(&run(
+        "edmd",
+        &["run", normal, "--until", "20", "-o", out.to_str().unwrap()],
+        None,
+    ));
+    let particles = crate::support::ok_stdout(&run("particles", &[normal, "20"], None));
+    let state = std::fs::read_to_string(&out).unwrap();
+    // The state file: N, R, "Lx Ly", then "x y u v" per disc; particles: "x, y, walls, discs".
+    let discs: Vec<&str> = state.lines().skip(3).collect();
+    assert_eq!(discs.len(), particles.lines().count());
+    for (d, p) in discs.iter().zip(particles.lines()) {
+        let xy: Vec<f64> = d
+            .split_whitespace()
+            .take(2)
+            .map(|x| x.parse().unwrap())
+            .collect();
+        assert_eq!(
+            format!("{:.6}, {:.6}", xy[0], xy[1]),
+            p.splitn(3, ", ").take(2).collect::<Vec<_>>().join(", ")
+        );
+    }
+    // The elastic rule is still there when asked for, and it ends elsewhere.
+    crate::support::ok_stdout(&run(
+        "edmd",
+        &[
+            "run",
+            normal,
+            "--until",
+            "20",
+            "--rule",
+            "elastic",
+            "-o",
+            out.to_str().unwrap(),
+        ],
+        None,
+    ));
+    assert_ne!(std::fs::read_to_string(&out).unwrap(), state);
+}

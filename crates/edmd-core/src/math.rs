@@ -15,6 +15,46 @@ pub const DIM: usize = 2;
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Vector<const D: usize = 2>(pub [f64; D]);
 
+/// A vector is written as its `D` components (serde has no impls for arrays of generic
+/// length).
+#[cfg(feature = "serde")]
+impl<const D: usize> serde::Serialize for Vector<D> {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        use serde::ser::SerializeTuple;
+        let mut t = s.serialize_tuple(D)?;
+        for x in &self.0 {
+            t.serialize_element(x)?;
+        }
+        t.end()
+    }
+}
+
+#[cfg(feature = "serde")]
+impl<'de, const D: usize> serde::Deserialize<'de> for Vector<D> {
+    fn deserialize<De: serde::Deserializer<'de>>(d: De) -> Result<Self, De::Error> {
+        struct Components<const D: usize>;
+        impl<'de, const D: usize> serde::de::Visitor<'de> for Components<D> {
+            type Value = Vector<D>;
+            fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+                write!(f, "{D} numbers")
+            }
+            fn visit_seq<A: serde::de::SeqAccess<'de>>(
+                self,
+                mut seq: A,
+            ) -> Result<Vector<D>, A::Error> {
+                let mut v = [0.0; D];
+                for (k, x) in v.iter_mut().enumerate() {
+                    *x = seq
+                        .next_element()?
+                        .ok_or_else(|| serde::de::Error::invalid_length(k, &self))?;
+                }
+                Ok(Vector(v))
+            }
+        }
+        d.deserialize_tuple(D, Components::<D>)
+    }
+}
+
 impl<const D: usize> Default for Vector<D> {
     fn default() -> Self {
         Vector([0.0; D])

@@ -9,12 +9,13 @@ use edmd_core::measure::{
     kinetic_temperature, Collisions, Diffusion, Pressure, SpeciesHalves, Speeds, Temperature,
 };
 use edmd_core::{EventRecord, Observer, Simulation};
+use serde::{Deserialize, Serialize};
 use serde_json::{json, Value};
 
 use crate::commands::experiment::common::write_csv;
 
 /// A measurement `edmd run` can attach.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, ValueEnum, Serialize, Deserialize)]
 pub enum Measure {
     /// Temperature over time: kT = sum m v^2 / 2N.
     Temperature,
@@ -48,7 +49,9 @@ impl Measure {
     }
 }
 
-/// The attached measurements.
+/// The attached measurements (kept in checkpoints, so that a continued run goes on measuring
+/// where it stopped).
+#[derive(Serialize, Deserialize)]
 pub struct Measurements<const D: usize = 2> {
     temperature: Option<Temperature>,
     pressure: Option<Pressure>,
@@ -82,6 +85,14 @@ impl<const D: usize> Measurements<D> {
             msd: has(Measure::Msd).then(|| Diffusion::new(sim)),
             species: has(Measure::Species).then(|| SpeciesHalves::new(sim, 0)),
         }
+    }
+
+    /// Whether these measurements can go on observing `sim` (checked on measurements read back
+    /// from a checkpoint).
+    pub fn fits(&self, sim: &Simulation<D>) -> bool {
+        self.collisions.as_ref().is_none_or(|m| m.fits(sim))
+            && self.msd.as_ref().is_none_or(|m| m.fits(sim))
+            && self.species.as_ref().is_none_or(|m| m.fits(sim))
     }
 
     /// Takes a sample of every measurement at the simulation's current time.

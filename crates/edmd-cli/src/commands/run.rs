@@ -11,10 +11,10 @@ use edmd_core::{
 };
 use edmd_io::princeton::ColumnOrder;
 use edmd_io::Format;
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 use crate::args::{ColumnsArg, FormatArg, RuleArg, RunArgs};
-use crate::commands::measurements::Measurements;
+use crate::commands::measurements::{Measure, Measurements};
 use crate::input::{build, load_any, read_text};
 use crate::output::{check_distinct, AtomicFile};
 use crate::user_error;
@@ -60,7 +60,7 @@ pub fn run(args: &RunArgs) -> Result<()> {
     if let Some(bytes) = read_checkpoint(&args.file)? {
         if args.columns.is_some()
             || args.format != FormatArg::Auto
-            || args.rule != RuleArg::Elastic
+            || args.rule.is_some()
             || args.multi
             || args.allow_overlaps
         {
@@ -100,8 +100,10 @@ fn run_in<const D: usize>(args: &RunArgs, sys: edmd_io::LoadedSystem<D>) -> Resu
         ));
     }
     let rule = match args.rule {
-        RuleArg::Elastic => CollisionRule::Elastic,
-        RuleArg::Swap => CollisionRule::Swap,
+        Some(RuleArg::Elastic) => CollisionRule::Elastic,
+        Some(RuleArg::Swap) => CollisionRule::Swap,
+        None if sys.format == Format::Course => CollisionRule::Swap,
+        None => CollisionRule::Elastic,
     };
     let overlaps = if args.allow_overlaps {
         OverlapPolicy::Allow
@@ -118,14 +120,27 @@ fn run_in<const D: usize>(args: &RunArgs, sys: edmd_io::LoadedSystem<D>) -> Resu
             multi,
         },
     )?;
-    execute(args, sim, sys.format)
+    execute(args, sim, sys.format, None)
 }
 
 /// What a checkpoint keeps besides the engine state: the format of the file the run started
-/// from, in which the final state is written.
-#[derive(Debug, Serialize, serde::Deserialize)]
-struct CheckpointExtra {
+/// from (the final state is written in it) and the measurements under way. `M` is
+/// `&Measuring` when written and `Measuring` when read: serde writes both the same way.
+#[derive(Serialize, Deserialize)]
+struct CheckpointExtra<M> {
     format: String,
+    measuring: Option<M>,
+}
+
+/// Measurements under way and their sampling schedule: samples at `start + k * every`.
+#[derive(Serialize, Deserialize)]
+#[serde(bound = "")]
+struct Measuring<const D: usize> {
+    which: Vec<Measure>,
+    every: f64,
+    start: f64,
+    samples: u64,
+    obs: Measurements<D>,
 }
 
 fn format_name(format: Format) -> &'static str {
@@ -140,20 +155,46 @@ fn format_name(format: Format) -> &'static str {
 fn resume<const D: usize>(args: &RunArgs, bytes: &[u8]) -> Result<()> {
     let (sim, extra) = Simulation::<D>::from_checkpoint(bytes)
         .or_else(|e| user_error(format!("{}: {e}", args.file)))?;
-    let format = match serde_json::from_slice::<CheckpointExtra>(&extra)
-        .ok()
-        .map(|x| x.format)
-        .as_deref()
-    {
-        Some("course") => Format::Course,
-        Some("princeton-mass-radius") => Format::Princeton(ColumnOrder::MassRadius),
-        Some("princeton") => Format::Princeton(ColumnOrder::RadiusMass),
-        _ => {
-            return user_error(format!(
-                "{}: checkpoint: the run's settings are missing or unreadable",
-                args.file
-            ))
+    let unreadable = || {
+        user_error(format!(
+            "{}: checkpoint: the run's settings or measurements are missing or unreadable",
+            args.file
+        ))
+    };
+    let Ok(extra) = postcard::from_bytes::<CheckpointExtra<Measuring<D>>>(&extra) else {
+        return unreadable();
+    };
+    let format = match extra.format.as_str() {
+        "course" => Format::Course,
+        "princeton-mass-radius" => Format::Princeton(ColumnOrder::MassRadius),
+        "princeton" => Format::Princeton(ColumnOrder::RadiusMass),
+        _ => return unreadable(),
+    };
+    let measuring = match extra.measuring {
+        Some(m) if !m.obs.fits(&sim) || m.which.is_empty() || !(m.every > 0.0) => {
+            return unreadable()
         }
+        Some(m) => {
+            let mut asked = args.measure.clone();
+            asked.sort();
+            asked.dedup();
+            if !args.measure.is_empty() && asked != m.which {
+                return user_error(format!(
+                    "{}: the checkpoint goes on measuring {}: give those with --measure, or none",
+                    args.file,
+                    names(&m.which)
+                ));
+            }
+            if args.sample_every.is_some_and(|dt| dt != m.every) {
+                return user_error(format!(
+                    "{}: the checkpoint samples every {}: give that --sample-every, or none",
+                    args.file, m.every
+                ));
+            }
+            check_outputs(args, &m.which)?;
+            Some(m)
+        }
+        None => None,
     };
     if args.until < sim.time() {
         return user_error(format!(
@@ -163,7 +204,17 @@ fn resume<const D: usize>(args: &RunArgs, bytes: &[u8]) -> Result<()> {
             args.until
         ));
     }
-    execute(args, sim, format)
+    execute(args, sim, format, measuring)
+}
+
+/// The names of measurements, as `--measure` takes them.
+fn names(which: &[Measure]) -> String {
+    use clap::ValueEnum;
+    which
+        .iter()
+        .filter_map(|m| m.to_possible_value().map(|v| v.get_name().to_string()))
+        .collect::<Vec<_>>()
+        .join(",")
 }
 
 /// Reads `path` as a checkpoint if it starts with the checkpoint magic number; `None` for any
@@ -194,7 +245,15 @@ fn read_checkpoint(path: &str) -> Result<Option<Vec<u8>>> {
 }
 
 /// Runs `sim` to `--until`, writing the outputs the options ask for.
-fn execute<const D: usize>(args: &RunArgs, mut sim: Simulation<D>, format: Format) -> Result<()> {
+///
+/// `measuring` holds the measurements a checkpoint carried; without them, `--measure` starts
+/// new ones now.
+fn execute<const D: usize>(
+    args: &RunArgs,
+    mut sim: Simulation<D>,
+    format: Format,
+    measuring: Option<Measuring<D>>,
+) -> Result<()> {
     let start_time = sim.time();
     let start_collisions = sim.stats().disc_disc;
     // Create outputs before the run so that an unwritable path fails at once, not after it.
@@ -212,10 +271,25 @@ fn execute<const D: usize>(args: &RunArgs, mut sim: Simulation<D>, format: Forma
     let progress = progress_bar(args.until);
     let started = Instant::now();
     let mut frames = 0u64;
-    let mut obs = Measurements::new(&sim, &args.measure);
-    // Stops: trajectory frames at k * every, measurement samples at k * sample_every.
-    let sample_dt = (!args.measure.is_empty())
-        .then(|| args.sample_every.unwrap_or(args.until / 100.0))
+    let mut m = measuring.unwrap_or_else(|| {
+        let mut which = args.measure.clone();
+        which.sort();
+        which.dedup();
+        Measuring {
+            obs: Measurements::new(&sim, &which),
+            which,
+            every: args
+                .sample_every
+                .unwrap_or((args.until - start_time) / 100.0),
+            start: start_time,
+            samples: 0,
+        }
+    });
+    if m.which.is_empty() && (args.sample_every.is_some() || args.measure_dir.is_some()) {
+        return user_error("--sample-every and --out-dir go with --measure");
+    }
+    let sample_dt = (!m.which.is_empty())
+        .then_some(m.every)
         .filter(|d| *d > 0.0);
     // Frames and checkpoints at whole multiples of their interval in absolute time (a run
     // continued from a checkpoint at T0 goes on from the first multiple at or after T0);
@@ -235,13 +309,15 @@ fn execute<const D: usize>(args: &RunArgs, mut sim: Simulation<D>, format: Forma
         .map(|dt| first(dt, true))
         .unwrap_or(0.0);
     let mut next_ck = args.checkpoint_every.map(|dt| ck_k * dt);
-    let extra = serde_json::to_vec(&CheckpointExtra {
-        format: format_name(format).to_string(),
-    })?;
-    let mut samples = 0u64;
+    let extra = |m: &Measuring<D>| {
+        postcard::to_stdvec(&CheckpointExtra {
+            format: format_name(format).to_string(),
+            measuring: (!m.which.is_empty()).then_some(m),
+        })
+    };
     loop {
         let next_sample = sample_dt
-            .map(|d| start_time + (samples + 1) as f64 * d)
+            .map(|d| m.start + (m.samples + 1) as f64 * d)
             .filter(|t| *t <= args.until);
         let next = [next_frame, next_sample, next_ck]
             .into_iter()
@@ -250,7 +326,7 @@ fn execute<const D: usize>(args: &RunArgs, mut sim: Simulation<D>, format: Forma
         if next > args.until {
             break;
         }
-        run_to(&mut sim, next, &progress, &mut obs)?;
+        run_to(&mut sim, next, &progress, &mut m.obs)?;
         if next_frame == Some(next) {
             let t = traj.as_mut().expect("frames only with a trajectory");
             edmd_io::xyz::write_frame(t.writer(), &sim.discs(), sim.sim_box(), next)?;
@@ -259,20 +335,20 @@ fn execute<const D: usize>(args: &RunArgs, mut sim: Simulation<D>, format: Forma
             next_frame = args.every.map(|dt| frame_k * dt);
         }
         if next_sample == Some(next) {
-            obs.sample(&sim);
-            samples += 1;
+            m.obs.sample(&sim);
+            m.samples += 1;
         }
         if next_ck == Some(next) {
             if let Some(p) = &args.checkpoint {
-                write_checkpoint(p, &sim, &extra)?;
+                write_checkpoint(p, &sim, &extra(&m)?)?;
             }
             ck_k += 1.0;
             next_ck = args.checkpoint_every.map(|dt| ck_k * dt);
         }
     }
-    run_to(&mut sim, args.until, &progress, &mut obs)?;
+    run_to(&mut sim, args.until, &progress, &mut m.obs)?;
     if let Some(p) = &args.checkpoint {
-        write_checkpoint(p, &sim, &extra)?;
+        write_checkpoint(p, &sim, &extra(&m)?)?;
     }
     let seconds = started.elapsed().as_secs_f64();
     if let Some(pb) = progress {
@@ -322,10 +398,10 @@ fn execute<const D: usize>(args: &RunArgs, mut sim: Simulation<D>, format: Forma
         edmd_io::write(&mut out, &discs, sim.sim_box(), sim.barriers(), format)?;
         out.flush()?;
     }
-    let (measured, files) = if args.measure.is_empty() {
+    let (measured, files) = if m.which.is_empty() {
         (serde_json::Value::Null, Vec::new())
     } else {
-        obs.finish(&sim, &args.measure_dir)?
+        m.obs.finish(&sim, measure_dir(args))?
     };
     let text = if args.json {
         let mut v = serde_json::to_value(&summary)?;
@@ -407,18 +483,18 @@ fn check_options(args: &RunArgs) -> Result<()> {
             ));
         }
     }
-    if args.checkpoint.is_some() && !args.measure.is_empty() {
-        return user_error(
-            "--checkpoint with --measure: measurements are not kept in checkpoints yet; run the measurements on the continued run, or without --checkpoint",
-        );
-    }
     if args.checkpoint.as_deref() == Some(Path::new("-")) {
         return user_error("--checkpoint -: checkpoints are written to a file; give a file name");
     }
-    let csvs: Vec<PathBuf> = args
-        .measure
+    check_outputs(args, &args.measure)
+}
+
+/// Checks that no output (the final state, the trajectory, the CSV files of the measurements
+/// `which`, the checkpoint) is the input or another output.
+fn check_outputs(args: &RunArgs, which: &[Measure]) -> Result<()> {
+    let csvs: Vec<PathBuf> = which
         .iter()
-        .flat_map(|m| m.files().iter().map(|f| args.measure_dir.join(f)))
+        .flat_map(|m| m.files().iter().map(|f| measure_dir(args).join(f)))
         .collect();
     let mut outputs: Vec<(&str, &Path)> = Vec::new();
     if let Some(o) = args.output.as_deref() {
@@ -444,6 +520,11 @@ fn check_options(args: &RunArgs) -> Result<()> {
         }
     }
     check_distinct(&[("the input file", input)], &outputs)
+}
+
+/// The folder for the measurements' CSV files.
+fn measure_dir(args: &RunArgs) -> &Path {
+    args.measure_dir.as_deref().unwrap_or(Path::new("."))
 }
 
 /// Whether two paths name the same existing file.

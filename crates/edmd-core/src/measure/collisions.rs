@@ -33,6 +33,7 @@ use crate::simulation::Simulation;
 /// Collision counts per block and the free flights of every disc. Attach it as an observer
 /// and call [`sample`](Collisions::sample) at the end of each block.
 #[derive(Clone, Debug)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct Collisions {
     n: usize,
     block_start: f64,
@@ -49,6 +50,7 @@ pub struct Collisions {
 
 /// The completed free flights of one disc.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct DiscFlights {
     /// Number of completed flights.
     pub flights: u64,
@@ -72,6 +74,7 @@ impl DiscFlights {
 
 /// One block of a collision measurement.
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct CollisionBlock {
     /// Start time.
     pub start: f64,
@@ -87,6 +90,7 @@ pub struct CollisionBlock {
 
 /// Result of a collision measurement.
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct CollisionSummary {
     /// Measuring time (sum of the block lengths).
     pub elapsed: f64,
@@ -132,6 +136,12 @@ impl Collisions {
             free_time: Histogram::new(0.0, max_time, bins),
             per_disc: vec![DiscFlights::default(); sim.len()],
         }
+    }
+
+    /// Whether this measurement can go on observing `sim`: it was made for as many discs (a
+    /// measurement read back from a file is checked so before use).
+    pub fn fits<const D: usize>(&self, sim: &Simulation<D>) -> bool {
+        self.n == sim.len() && self.last.len() == self.n && self.per_disc.len() == self.n
     }
 
     /// Closes the current block at the simulation's current time and starts the next one.

@@ -19,6 +19,7 @@ use crate::simulation::Simulation;
 
 /// Mean square displacement of tagged discs, sampled at times the caller chooses.
 #[derive(Clone, Debug)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct Diffusion<const D: usize = 2> {
     start_time: f64,
     tagged: Vec<usize>,
@@ -28,6 +29,7 @@ pub struct Diffusion<const D: usize = 2> {
 
 /// A least-squares fit `MSD = 2 D D t + c`.
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct DiffusionFit {
     /// Diffusion coefficient `D`.
     pub coefficient: f64,
@@ -59,6 +61,12 @@ impl<const D: usize> Diffusion<D> {
             start,
             series: Vec::new(),
         }
+    }
+
+    /// Whether this measurement can go on observing `sim`: every tagged disc exists and has its
+    /// starting point (a measurement read back from a file is checked so before use).
+    pub fn fits(&self, sim: &Simulation<D>) -> bool {
+        self.start.len() == self.tagged.len() && self.tagged.iter().all(|&i| i < sim.len())
     }
 
     /// Records `(time since the start, MSD)` now.

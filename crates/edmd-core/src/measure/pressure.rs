@@ -45,6 +45,7 @@ use crate::simulation::Simulation;
 /// Wall and virial pressure, accumulated per block. Attach it as an observer and call
 /// [`sample`](Pressure::sample) at the end of each block.
 #[derive(Clone, Debug)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct Pressure {
     n: usize,
     area: f64,
@@ -59,6 +60,7 @@ pub struct Pressure {
 
 /// One block of a pressure measurement.
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct PressureBlock {
     /// Start time.
     pub start: f64,
@@ -80,6 +82,7 @@ pub struct PressureBlock {
 
 /// Result of a pressure measurement. See the module documentation for the formulas.
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct PressureSummary {
     /// Measuring time (sum of the block lengths).
     pub elapsed: f64,

@@ -10,6 +10,7 @@ use crate::simulation::Simulation;
 
 /// Counts of each species in the two halves of the box, sampled at times the caller chooses.
 #[derive(Clone, Debug)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct SpeciesHalves {
     axis: usize,
     species: usize,
@@ -18,6 +19,7 @@ pub struct SpeciesHalves {
 
 /// The counts at one time.
 #[derive(Clone, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct SpeciesSnapshot {
     /// Time.
     pub time: f64,
@@ -27,6 +29,7 @@ pub struct SpeciesSnapshot {
 
 /// Summary of a [`SpeciesHalves`] series.
 #[derive(Clone, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct SpeciesSummary {
     /// Number of snapshots.
     pub samples: usize,
@@ -71,6 +74,12 @@ impl SpeciesHalves {
             species: species.unwrap_or(0),
             snapshots: Vec::new(),
         }
+    }
+
+    /// Whether this measurement can go on observing `sim`: the axis exists and every disc's
+    /// species has a count (a measurement read back from a file is checked so before use).
+    pub fn fits<const D: usize>(&self, sim: &Simulation<D>) -> bool {
+        self.axis < D && (0..sim.len()).all(|i| (sim.species(i) as usize) < self.species)
     }
 
     /// Records the counts now.

@@ -72,6 +72,7 @@ fn maxwell_mean(m: f64, kt: f64, dim: usize) -> f64 {
 
 /// Speeds of every disc pooled over the snapshots the caller takes.
 #[derive(Clone, Debug)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct Speeds {
     speeds: Vec<f64>,
     masses: Vec<f64>,
@@ -84,6 +85,7 @@ pub struct Speeds {
 /// Result of a speed measurement, against the Maxwell-Boltzmann law (Rayleigh in 2D) at a
 /// given `kT`.
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct SpeedSummary {
     /// Speeds pooled.
     pub samples: usize,

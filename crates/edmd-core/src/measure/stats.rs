@@ -3,6 +3,7 @@
 
 /// A measured value with its statistical error.
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct Estimate {
     /// The value over the whole measuring time (totals divided by the total time).
     pub value: f64,
@@ -41,6 +42,7 @@ pub fn block_error(values: &[f64]) -> f64 {
 
 /// A histogram of equal bins on `[lo, hi)`, with counts of the values that fell outside.
 #[derive(Clone, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct Histogram {
     /// Lower edge of the first bin.
     pub lo: f64,
@@ -131,6 +133,7 @@ pub fn linear_fit(points: &[(f64, f64)]) -> Option<(f64, f64)> {
 
 /// Result of a one-sample Kolmogorov-Smirnov test.
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct KsTest {
     /// `D = sup |F_n(x) - F(x)|`, the largest distance between the empirical and the model CDF.
     pub statistic: f64,

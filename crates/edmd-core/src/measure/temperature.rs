@@ -26,6 +26,7 @@ pub fn kinetic_temperature<const D: usize>(sim: &Simulation<D>) -> f64 {
 
 /// Kinetic temperature sampled at times the caller chooses: all discs, or one species.
 #[derive(Clone, Debug, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct Temperature {
     species: Option<u16>,
     series: Vec<(f64, f64)>,
@@ -33,6 +34,7 @@ pub struct Temperature {
 
 /// Summary of a [`Temperature`] series.
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct TemperatureSummary {
     /// Number of samples.
     pub samples: usize,
