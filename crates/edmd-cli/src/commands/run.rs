@@ -171,7 +171,9 @@ fn resume<const D: usize>(args: &RunArgs, bytes: &[u8]) -> Result<()> {
         _ => return unreadable(),
     };
     let measuring = match extra.measuring {
-        Some(m) if !m.obs.fits(&sim) || m.which.is_empty() || !(m.every > 0.0) => {
+        Some(m)
+            if !m.obs.fits(&sim) || m.which.is_empty() || m.every.is_nan() || m.every <= 0.0 =>
+        {
             return unreadable()
         }
         Some(m) => {
