@@ -24,6 +24,10 @@ pub enum Command {
     Run(RunArgs),
     /// Time the event loop on a melted lattice fluid; prints one JSON line.
     Bench(BenchArgs),
+    /// A long run of a dense periodic fluid (10^9 collisions by default), checked every so
+    /// often for overlaps, discs outside the box, energy and momentum drift, a clock that stops,
+    /// and memory growth.
+    Soak(crate::commands::soak::SoakArgs),
     /// Render frames without a screen: an animated GIF, an MP4 (with ffmpeg) or PNG files.
     Render(crate::commands::render::RenderArgs),
     /// Open the viewer window (the separate edmd-view program).

@@ -15,6 +15,7 @@ fn main() -> ExitCode {
     let result = match &cli.command {
         Command::Run(a) => commands::run::run(a),
         Command::Bench(a) => commands::bench::run(a),
+        Command::Soak(a) => commands::soak::run(a),
         Command::Gen(a) => commands::gen::run(a),
         Command::Render(a) => commands::render::run(a),
         Command::View { args } => return view(args),

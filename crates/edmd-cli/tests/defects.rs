@@ -777,3 +777,58 @@ fn run_on_a_course_file_agrees_with_particles_by_default() {
     ));
     assert_ne!(std::fs::read_to_string(&out).unwrap(), state);
 }
+
+// 7. A restarted run (`edmd run state.txt --until 50`) started its clock at 0 again. The state
+// file now carries its time (`# edmd time T`), a run from it starts there, `--until` is the
+// absolute end time, and chained runs report the true time.
+#[test]
+fn chained_runs_keep_the_true_time() {
+    let dir = tempfile::tempdir().unwrap();
+    let p = |name: &str| dir.path().join(name).to_str().unwrap().to_string();
+    let gas = crate::support::example("gas-300.txt");
+    let json = |args: &[&str]| -> serde_json::Value {
+        serde_json::from_str(crate::support::ok_stdout(&run("edmd", args, None)).trim()).unwrap()
+    };
+    json(&[
+        "run",
+        gas.to_str().unwrap(),
+        "--until",
+        "5",
+        "-o",
+        &p("a.txt"),
+        "--json",
+    ]);
+    assert!(std::fs::read_to_string(p("a.txt"))
+        .unwrap()
+        .contains("# edmd time 5"));
+    let traj = p("t.xyz");
+    let s = json(&[
+        "run",
+        &p("a.txt"),
+        "--until",
+        "8",
+        "-o",
+        &p("b.txt"),
+        "--json",
+        "--trajectory",
+        &traj,
+        "--every",
+        "1",
+    ]);
+    assert_eq!(s["until"], 8.0);
+    assert!(std::fs::read_to_string(p("b.txt"))
+        .unwrap()
+        .contains("# edmd time 8"));
+    // Frames at the absolute times 5, 6, 7, 8.
+    let frames = std::fs::read_to_string(&traj).unwrap();
+    let times: Vec<&str> = frames
+        .lines()
+        .filter_map(|l| l.split("Time=").nth(1))
+        .map(|t| t.split_whitespace().next().unwrap())
+        .collect();
+    assert_eq!(times, ["5.0", "6.0", "7.0", "8.0"], "{times:?}");
+    refused_with(
+        &run("edmd", &["run", &p("b.txt"), "--until", "7"], None),
+        "the state is at t = 8",
+    );
+}

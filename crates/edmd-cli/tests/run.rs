@@ -140,7 +140,7 @@ fn output_is_written_in_the_input_format_and_chains() {
             "run",
             a.to_str().unwrap(),
             "--until",
-            "3",
+            "7",
             "--output",
             b.to_str().unwrap(),
         ],
@@ -163,6 +163,7 @@ fn output_is_written_in_the_input_format_and_chains() {
             .unwrap()
             .lines()
             .skip(1)
+            .filter(|l| !l.starts_with('#'))
             .map(|l| l.split_whitespace().map(|x| x.parse().unwrap()).collect())
             .collect()
     };
@@ -362,7 +363,7 @@ fn extended_princeton_files_with_box_barriers_and_species_chain() {
     );
     ok_stdout(&run(
         "edmd",
-        &["run", o.to_str().unwrap(), "--until", "10"],
+        &["run", o.to_str().unwrap(), "--until", "510"],
         None,
     ));
 }

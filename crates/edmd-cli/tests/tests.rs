@@ -10,5 +10,6 @@ mod experiments;
 mod particles;
 mod render;
 mod run;
+mod soak;
 mod three_d;
 mod trajectory;

@@ -35,6 +35,7 @@ impl CourseSystem {
             barriers: Vec::new(),
             lines: self.lines,
             format: Format::Course,
+            time: 0.0,
         }
     }
 }

@@ -34,6 +34,9 @@ pub struct LoadedSystem<const D: usize = 2> {
     pub lines: Vec<usize>,
     /// The format it was read in.
     pub format: Format,
+    /// The time the state is at (`# edmd time T`; 0 without it, and always 0 in the course
+    /// format, which has no place for it).
+    pub time: f64,
 }
 
 /// The input formats.
@@ -106,7 +109,8 @@ pub fn parse_any(text: &str, format: Format) -> Result<AnyLoaded, ParseError> {
     }
 }
 
-/// Writes discs (or spheres) in `format`. The course format is 2D and keeps only the first
+/// Writes discs (or spheres) in `format`, at `time` (kept by the Princeton format as
+/// `# edmd time T` when it is not 0). The course format is 2D and keeps only the first
 /// radius, the box lengths and no barriers: check [`course::fits`] first; a 3D system in it is
 /// an `InvalidInput` error.
 pub fn write<const D: usize>(
@@ -115,6 +119,7 @@ pub fn write<const D: usize>(
     sim_box: &SimBox<D>,
     barriers: &[Barrier],
     format: Format,
+    time: f64,
 ) -> std::io::Result<()> {
     match format {
         Format::Course if D == 2 => {
@@ -129,6 +134,6 @@ pub fn write<const D: usize>(
             std::io::ErrorKind::InvalidInput,
             "the course format holds 2D systems only",
         )),
-        Format::Princeton(order) => princeton::write(out, discs, sim_box, barriers, order),
+        Format::Princeton(order) => princeton::write(out, discs, sim_box, barriers, order, time),
     }
 }

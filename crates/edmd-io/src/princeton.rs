@@ -18,6 +18,8 @@
 //!   - `# edmd barrier AXIS POSITION [door LO HI [demon FAST SLOW]]`: an internal wall across
 //!     the box perpendicular to axis `x` or `y` at `POSITION`, with an optional door and demon
 //!     (see `edmd_core::Barrier`); repeatable;
+//!   - `# edmd time T`: the time the state is at (default 0). `edmd run` writes it into the
+//!     states it writes and starts its clock there, so that chained runs keep the true time;
 //! - an optional tenth column on any disc line: the species, a whole number (default 0);
 //! - `# edmd dim 3` (before the first disc line): a 3D file of spheres. Disc lines are then
 //!   `rx ry rz vx vy vz radius mass r g b [species]` (mass before radius with
@@ -190,13 +192,14 @@ pub fn parse_in<const D: usize>(
         at.push(line);
     }
     expect_end(&mut lines, n)?;
-    let (sim_box, barriers) = directives::<D>(&lines.directives)?;
+    let (sim_box, barriers, time) = directives::<D>(&lines.directives)?;
     Ok(LoadedSystem {
         discs,
         sim_box,
         barriers,
         lines: at,
         format: Format::Princeton(order),
+        time,
     })
 }
 
@@ -214,9 +217,11 @@ fn dim_line(text: &str) -> Option<usize> {
 /// Interprets the `# edmd` directives.
 fn directives<const D: usize>(
     list: &[(usize, Vec<&str>)],
-) -> Result<(SimBox<D>, Vec<Barrier>), ParseError> {
+) -> Result<(SimBox<D>, Vec<Barrier>, f64), ParseError> {
     let mut sim_box = SimBox::<D>::walls([1.0; D]);
     let mut barriers = Vec::new();
+    let mut time = 0.0;
+    let mut seen_time: Option<usize> = None;
     // The line of the first `box` and `boundary` directive: a second one is refused rather than
     // silently replacing the first.
     let mut seen_box: Option<usize> = None;
@@ -263,6 +268,13 @@ fn directives<const D: usize>(
                     _ => return Err(err(line, "expected 'boundary X [Y]'")),
                 }
             }
+            Some("time") => {
+                once(&mut seen_time, "time")?;
+                time = crate::text::numbers(line, &w[1..], &["T"])?[0];
+                if time < 0.0 {
+                    return Err(err(line, "the time must be >= 0"));
+                }
+            }
             Some("barrier") if D != 2 => return Err(err(line, "barriers exist in 2D files only")),
             Some("barrier") => barriers.push(barrier(line, &w[1..])?),
             // Read before the discs by `declared_dim`.
@@ -270,13 +282,13 @@ fn directives<const D: usize>(
             Some(other) => {
                 return Err(err(
                     line,
-                    format!("unknown edmd directive '{other}' (dim, box, boundary, barrier)"),
+                    format!("unknown edmd directive '{other}' (dim, box, boundary, barrier, time)"),
                 ))
             }
             None => return Err(err(line, "empty edmd directive")),
         }
     }
-    Ok((sim_box, barriers))
+    Ok((sim_box, barriers, time))
 }
 
 /// `AXIS POSITION [door LO HI [demon FAST SLOW]]`.
@@ -323,6 +335,7 @@ pub fn write<const D: usize>(
     sim_box: &SimBox<D>,
     barriers: &[Barrier],
     order: ColumnOrder,
+    time: f64,
 ) -> std::io::Result<()> {
     writeln!(out, "{}", discs.len())?;
     if D != 2 {
@@ -364,6 +377,9 @@ pub fn write<const D: usize>(
         }
         writeln!(out)?;
     }
+    if time != 0.0 {
+        writeln!(out, "# edmd time {}", exact(time))?;
+    }
     let with_species = discs.iter().any(|d| d.species != 0);
     for d in discs {
         let (a, b) = match order {
@@ -399,6 +415,42 @@ mod tests {
 
     const TWO: &str = "2\n .1 .3 .01 0 .05 1 50 50 50\n.5 .3 -.01 0 .01 .0004 255 0 0\n\n";
 
+    /// `# edmd time T` is read and written back, at most once, never negative; the course
+    /// format has no place for it.
+    #[test]
+    fn the_state_carries_its_time() {
+        let text =
+            "2\n# edmd time 12.5\n .1 .3 .01 0 .05 1 50 50 50\n.5 .3 -.01 0 .01 .0004 255 0 0\n";
+        let s = parse(text, ColumnOrder::default()).unwrap();
+        assert_eq!(s.time, 12.5);
+        assert_eq!(parse(TWO, ColumnOrder::default()).unwrap().time, 0.0);
+        let mut out = Vec::new();
+        let t = 0.1 + 0.2;
+        write(
+            &mut out,
+            &s.discs,
+            &s.sim_box,
+            &[],
+            ColumnOrder::default(),
+            t,
+        )
+        .unwrap();
+        let back = parse(std::str::from_utf8(&out).unwrap(), ColumnOrder::default()).unwrap();
+        assert_eq!(back.time, t, "the time is written exactly");
+        for (bad, what) in [
+            ("# edmd time -1", ">= 0"),
+            ("# edmd time 1 2", "expected 1 numbers"),
+            ("# edmd time 1\n# edmd time 2", "a second '# edmd time'"),
+            ("# edmd time nan", "T"),
+        ] {
+            let text = format!("1\n{bad}\n.5 .5 0 0 .1 1 0 0 0\n");
+            let e = parse(&text, ColumnOrder::default())
+                .unwrap_err()
+                .to_string();
+            assert!(e.contains(what), "{bad}: {e}");
+        }
+    }
+
     #[test]
     fn reads_radius_before_mass_by_default() {
         let s = parse(TWO, ColumnOrder::RadiusMass).unwrap();
@@ -420,6 +472,7 @@ mod tests {
             &s.sim_box,
             &s.barriers,
             ColumnOrder::MassRadius,
+            0.0,
         )
         .unwrap();
         assert_eq!(
@@ -455,6 +508,7 @@ mod tests {
             &s.sim_box,
             &s.barriers,
             ColumnOrder::default(),
+            0.0,
         )
         .unwrap();
         let back = parse(std::str::from_utf8(&out).unwrap(), ColumnOrder::default()).unwrap();
@@ -471,6 +525,7 @@ mod tests {
             &plain.sim_box,
             &plain.barriers,
             ColumnOrder::default(),
+            0.0,
         )
         .unwrap();
         let text = String::from_utf8(out).unwrap();
@@ -547,7 +602,15 @@ mod tests {
         let mut discs = s.discs.clone();
         discs[0].pos.0 = [0.1 + 0.2, 1.0 / 3.0, std::f64::consts::PI];
         let mut out = Vec::new();
-        write(&mut out, &discs, &s.sim_box, &[], ColumnOrder::RadiusMass).unwrap();
+        write(
+            &mut out,
+            &discs,
+            &s.sim_box,
+            &[],
+            ColumnOrder::RadiusMass,
+            0.0,
+        )
+        .unwrap();
         let text = String::from_utf8(out).unwrap();
         assert!(text.starts_with("2\n# edmd dim 3\n"), "{text}");
         let back = parse_in::<3>(&text, ColumnOrder::RadiusMass).unwrap();
@@ -561,6 +624,7 @@ mod tests {
             &SimBox::walls([1.0; 3]),
             &[],
             ColumnOrder::MassRadius,
+            0.0,
         )
         .unwrap();
         let text = String::from_utf8(out).unwrap();

@@ -157,6 +157,7 @@ fn write_system<const D: usize>(
             &system.sim_box,
             &system.barriers,
             format,
+            0.0,
         )?;
         std::io::Write::flush(&mut out)?;
     } else {
@@ -167,6 +168,7 @@ fn write_system<const D: usize>(
             &system.sim_box,
             &system.barriers,
             format,
+            0.0,
         )?;
         f.commit()?;
         eprintln!(

@@ -7,3 +7,4 @@ pub mod measurements;
 pub mod particles;
 pub mod render;
 pub mod run;
+pub mod soak;

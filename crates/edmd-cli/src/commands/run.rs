@@ -111,7 +111,7 @@ fn run_in<const D: usize>(args: &RunArgs, sys: edmd_io::LoadedSystem<D>) -> Resu
         OverlapPolicy::Refuse
     };
     let multi = args.multi.then(MultiContact::default);
-    let sim = build(
+    let mut sim = build(
         &args.file,
         &sys,
         Options {
@@ -120,6 +120,16 @@ fn run_in<const D: usize>(args: &RunArgs, sys: edmd_io::LoadedSystem<D>) -> Resu
             multi,
         },
     )?;
+    if sys.time != 0.0 {
+        if args.until < sys.time {
+            return user_error(format!(
+                "{}: the state is at t = {} ('# edmd time'), after --until {}: give a later end time",
+                args.file, sys.time, args.until
+            ));
+        }
+        sim.start_at(sys.time)
+            .or_else(|e| user_error(format!("{}: {e}", args.file)))?;
+    }
     execute(args, sim, sys.format, None)
 }
 
@@ -393,11 +403,25 @@ fn execute<const D: usize>(
     }
     let to_stdout = args.output.as_deref() == Some("-");
     if let Some(mut f) = out_file.take() {
-        edmd_io::write(f.writer(), &discs, sim.sim_box(), sim.barriers(), format)?;
+        edmd_io::write(
+            f.writer(),
+            &discs,
+            sim.sim_box(),
+            sim.barriers(),
+            format,
+            sim.time(),
+        )?;
         f.commit()?;
     } else if to_stdout {
         let mut out = std::io::stdout().lock();
-        edmd_io::write(&mut out, &discs, sim.sim_box(), sim.barriers(), format)?;
+        edmd_io::write(
+            &mut out,
+            &discs,
+            sim.sim_box(),
+            sim.barriers(),
+            format,
+            sim.time(),
+        )?;
         out.flush()?;
     }
     let (measured, files) = if m.which.is_empty() {

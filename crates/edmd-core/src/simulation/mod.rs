@@ -429,6 +429,29 @@ impl<const D: usize> Simulation<D> {
         self.schedule_all();
     }
 
+    /// Sets the clock of a simulation that has not run yet to `t0` (a state file that carries
+    /// its time: the discs are where they are at `t0`, and the run goes on from there).
+    /// Refused once an event has happened, and for a time that is not finite or is negative.
+    pub fn start_at(&mut self, t0: f64) -> Result<(), Error> {
+        if !(t0.is_finite() && t0 >= 0.0) {
+            return Err(Error::Invalid(format!(
+                "start time {t0} is not a finite time >= 0"
+            )));
+        }
+        if self.stats != Stats::default() || self.now != 0.0 {
+            return Err(Error::Invalid(
+                "the clock can be set only before the run starts".into(),
+            ));
+        }
+        for b in &mut self.body {
+            b.time = t0;
+        }
+        self.event_time = t0;
+        self.now = t0;
+        self.schedule_all();
+        Ok(())
+    }
+
     /// Bytes held by the simulation's arrays (capacity, not just length).
     pub fn memory_bytes(&self) -> usize {
         use std::mem::size_of;
