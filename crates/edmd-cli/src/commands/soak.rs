@@ -284,7 +284,8 @@ mod tests {
     fn each_violation_is_caught() {
         let first = good(10, 1.0);
         assert!(judge(&good(20, 2.0), Some(&first), Some(&first)).is_empty());
-        let cases: [(&str, fn(&mut Reading)); 7] = [
+        type Spoil = fn(&mut Reading);
+        let cases: [(&str, Spoil); 7] = [
             ("overlapping", |r| r.overlaps = 3),
             ("outside", |r| r.outside = 1),
             ("kinetic energy", |r| r.energy_drift = 1e-6),
