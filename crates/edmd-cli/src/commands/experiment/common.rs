@@ -178,9 +178,8 @@ pub fn melted_fluid_in<const D: usize>(
     Ok((sim, rate))
 }
 
-/// The lowest packing fraction of a melted fluid: below it, melting by collisions takes hours
-/// (each collision costs some hundreds of cell crossings at 1e-3 already).
-pub const MIN_PACKING: f64 = 1e-3;
+/// The lowest packing fraction of a melted fluid (the engine's generators refuse lower ones).
+pub use edmd_core::setup::MIN_PACKING;
 
 /// The most discs a command generates.
 pub const MAX_N: usize = 10_000_000;
