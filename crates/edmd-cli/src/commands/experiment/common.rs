@@ -171,7 +171,7 @@ pub fn melted_fluid_in<const D: usize>(
         .or_else(|e| crate::user_error(e.to_string()))?;
     let (c0, t0) = (sim.stats().disc_disc, sim.time());
     while sim.stats().disc_disc - c0 < melt * n as u64 {
-        sim.run_events(10_000, &mut ());
+        crate::run_events(&mut sim, 10_000)?;
     }
     let rate = 2.0 * (sim.stats().disc_disc - c0) as f64
         / (n as f64 * (sim.time() - t0).max(f64::MIN_POSITIVE));
