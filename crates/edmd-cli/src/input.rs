@@ -166,6 +166,16 @@ pub fn build_with_hint<const D: usize>(
                 line(first)
             ),
             EngineError::BadDisc { index, what } => format!("{path}:{}: {what}", line(index)),
+            EngineError::DiscFillsBox {
+                index,
+                axis,
+                diameter,
+                length,
+            } => format!(
+                "{path}:{}: diameter {diameter} does not fit in the box: it is not less than the box's {} length {length}, between walls (a disc that reaches from wall to wall cannot move)",
+                line(index),
+                ["x", "y", "z"].get(axis).unwrap_or(&"?")
+            ),
             EngineError::SwapNeedsEqualMasses { index, mass, mass0 } => format!(
                 "{path}:{}: the swap rule needs equal masses, but this disc has mass {mass} and the first has {mass0}",
                 line(index)

@@ -47,6 +47,42 @@ pub fn user_error<T>(msg: impl Into<String>) -> anyhow::Result<T> {
     Err(UserError(msg.into()).into())
 }
 
+/// Fails with one line naming the discs (a [`UserError`]: exit status 2) if the simulation's
+/// clock stopped advancing ([`edmd_core::Simulation::stalled`]): discs jammed so that their
+/// events all fall at one instant.
+pub fn check_stall<const D: usize>(sim: &edmd_core::Simulation<D>) -> anyhow::Result<()> {
+    match sim.stalled() {
+        None => Ok(()),
+        Some(s) => user_error(s.to_string()),
+    }
+}
+
+/// [`edmd_core::Simulation::run_until`], then [`check_stall`]: every command that runs a
+/// simulation to a time goes through here.
+pub fn run_until<const D: usize, O: edmd_core::Observer<D>>(
+    sim: &mut edmd_core::Simulation<D>,
+    t: f64,
+    observer: &mut O,
+) -> anyhow::Result<()> {
+    sim.run_until(t, observer);
+    check_stall(sim)
+}
+
+/// [`edmd_core::Simulation::run_events`] (without an observer), then [`check_stall`]; also
+/// fails when no event is left at all, so that a loop waiting for a number of collisions always
+/// ends. Returns how many events were processed.
+pub fn run_events<const D: usize>(
+    sim: &mut edmd_core::Simulation<D>,
+    n: u64,
+) -> anyhow::Result<u64> {
+    let k = sim.run_events(n, &mut ());
+    check_stall(sim)?;
+    if k == 0 && n > 0 {
+        return user_error("no disc moves: nothing will ever happen in this system");
+    }
+    Ok(k)
+}
+
 /// Runs a command body and turns its outcome into an exit status, printing errors in one line.
 pub fn exit_with(program: &str, result: anyhow::Result<()>) -> ExitCode {
     match result {

@@ -832,3 +832,196 @@ fn chained_runs_keep_the_true_time() {
         "the state is at t = 8",
     );
 }
+
+/// Runs `program ARGS` in `dir` with its address space limited to `mb` megabytes, and fails
+/// unless it ends within `secs` seconds. Standard output and error go to files in `dir`
+/// (`.stdout`, `.stderr`), read back into the returned output.
+fn within(dir: &Path, program: &str, args: &[&str], mb: u64, secs: u64) -> std::process::Output {
+    let exe = match program {
+        "edmd" => env!("CARGO_BIN_EXE_edmd"),
+        _ => env!("CARGO_BIN_EXE_particles"),
+    };
+    let (out, err) = (dir.join(".stdout"), dir.join(".stderr"));
+    let mut child = Command::new("sh")
+        .arg("-c")
+        .arg(format!("ulimit -v {} && exec \"$0\" \"$@\"", mb * 1024))
+        .arg(exe)
+        .args(args)
+        .current_dir(dir)
+        .stdin(Stdio::null())
+        .stdout(std::fs::File::create(&out).unwrap())
+        .stderr(std::fs::File::create(&err).unwrap())
+        .spawn()
+        .unwrap();
+    let deadline = std::time::Instant::now() + Duration::from_secs(secs);
+    let status = loop {
+        if let Some(s) = child.try_wait().unwrap() {
+            break s;
+        }
+        if std::time::Instant::now() > deadline {
+            let _ = child.kill();
+            let _ = child.wait();
+            panic!("{program} {args:?} did not end within {secs} s");
+        }
+        std::thread::sleep(Duration::from_millis(20));
+    };
+    let read = |p: &Path| {
+        let b = std::fs::read(p).unwrap();
+        std::fs::remove_file(p).unwrap();
+        b
+    };
+    std::process::Output {
+        status,
+        stdout: read(&out),
+        stderr: read(&err),
+    }
+}
+
+// 10. Two discs in `# edmd box 1 1e18` took 4.2 GB (walls) or 12.6 GB (periodic) in the cell
+// grid, and a course file with box `15.1 1e20` 4.2 GB: the long axis got about 10^9 cells. Each
+// run here must now finish within 20 s in 256 MB of address space.
+#[test]
+fn long_thin_boxes_run_in_little_memory() {
+    let dir = tempfile::tempdir().unwrap();
+    let two = "0.5 0.5 0 1 0.01 1 0 0 0\n0.5 10 0 -1 0.01 1 0 0 0\n";
+    let two_3d = "0.5 0.5 0.5 0 0 1 0.01 1 0 0 0\n0.5 0.5 10 0 0 -1 0.01 1 0 0 0\n";
+    let files = [
+        write(&dir, "walls.txt", &format!("2\n# edmd box 1 1e18\n{two}")),
+        write(
+            &dir,
+            "periodic.txt",
+            &format!("2\n# edmd box 1 1e18\n# edmd boundary periodic\n{two}"),
+        ),
+        write(
+            &dir,
+            "walls3.txt",
+            &format!("2\n# edmd dim 3\n# edmd box 1 1 1e18\n{two_3d}"),
+        ),
+        write(
+            &dir,
+            "periodic3.txt",
+            &format!("2\n# edmd dim 3\n# edmd box 1 1e18 1e18\n# edmd boundary periodic\n{two_3d}"),
+        ),
+        write(
+            &dir,
+            "course.txt",
+            "2\n0.5\n15.1 1e20\n1 1 0 1\n5 10 0 -1\n",
+        ),
+    ];
+    for f in &files {
+        let out = within(
+            dir.path(),
+            "edmd",
+            &["run", f, "--until", "20", "-o", "out.txt"],
+            256,
+            20,
+        );
+        assert!(
+            out.status.success(),
+            "{f}: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        assert!(dir.path().join("out.txt").exists(), "{f}");
+    }
+    let out = within(dir.path(), "particles", &[&files[4], "20"], 256, 20);
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert_eq!(
+        text,
+        "1.000000, 21.000000, 0, 0\n5.000000, 11.000000, 1, 0\n"
+    );
+}
+
+// 10. A disc of radius exactly half the box (Princeton `0.5 0.5 0.01 0 0.5 ...`, or `particles`
+// on the course file `1 / 0.5 / 1 1 / 0.5 0.5 0.1 0`) never ended: its wall collisions were all
+// at one instant. Refused now, naming the line.
+#[test]
+fn disc_filling_the_box_is_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let p = write(&dir, "half.txt", "1\n0.5 0.5 0.01 0 0.5 1 50 50 50\n");
+    let c = write(&dir, "half_course.txt", "1\n0.5\n1 1\n0.5 0.5 0.1 0\n");
+    let out = within(
+        dir.path(),
+        "edmd",
+        &["run", &p, "--until", "1", "-o", "out.txt"],
+        256,
+        20,
+    );
+    refused_with(&out, "half.txt:2: diameter 1 does not fit in the box");
+    let out = within(dir.path(), "particles", &[&c, "1"], 256, 20);
+    refused_with(
+        &out,
+        "half_course.txt:4: diameter 1 does not fit in the box",
+    );
+    assert_eq!(names(dir.path()), ["half.txt", "half_course.txt"]);
+}
+
+// 10. A 20 x 20 square lattice of touching discs filling the box, or a column of touching discs
+// filling its height, never ended: the clock stopped at t = 0. Now `run`, `render` and
+// `particles` stop within seconds with one line naming the discs, exit status 2, and write
+// nothing.
+#[test]
+fn runs_whose_clock_stops_fail_naming_the_discs() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut lattice = String::from("400\n# edmd box 20 20\n");
+    for k in 0..400 {
+        let (i, j) = ((k / 20) as f64, (k % 20) as f64);
+        let (u, v) = (
+            ((i * 7.0 + j * 3.0) % 5.0) - 2.0,
+            ((i * 3.0 + j) % 3.0) - 1.0,
+        );
+        lattice += &format!("{} {} {u} {v} 0.5 1 0 0 0\n", 0.5 + i, 0.5 + j);
+    }
+    let mut column = String::from("10\n# edmd box 5 10\n");
+    let mut course = String::from("10\n0.5\n5 10\n");
+    for k in 0..10 {
+        let v = 0.3 - 0.1 * k as f64;
+        column += &format!("2.5 {} 0 {v} 0.5 1 0 0 0\n", 0.5 + k as f64);
+        course += &format!("2.5 {} 0 {v}\n", 0.5 + k as f64);
+    }
+    let lattice = write(&dir, "lattice.txt", &lattice);
+    let column = write(&dir, "column.txt", &column);
+    let course = write(&dir, "course.txt", &course);
+    for f in [&lattice, &column] {
+        let out = within(
+            dir.path(),
+            "edmd",
+            &[
+                "run",
+                f,
+                "--until",
+                "10",
+                "-o",
+                "out.txt",
+                "--trajectory",
+                "t.xyz",
+                "--every",
+                "0.5",
+            ],
+            256,
+            30,
+        );
+        refused_with(&out, "the clock stopped advancing at t = 0");
+        refused_with(&out, "among discs 0, 1, 2");
+        refused_with(&out, "nothing written");
+    }
+    let out = within(
+        dir.path(),
+        "edmd",
+        &["render", &column, "--until", "2", "-o", "movie.gif"],
+        512,
+        30,
+    );
+    refused_with(&out, "the clock stopped advancing at t = 0");
+    let out = within(dir.path(), "particles", &[&course, "10"], 256, 30);
+    refused_with(&out, "the clock stopped advancing at t = 0");
+    assert!(out.stdout.is_empty());
+    assert_eq!(
+        names(dir.path()),
+        ["column.txt", "course.txt", "lattice.txt"]
+    );
+}

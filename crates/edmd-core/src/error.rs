@@ -77,6 +77,25 @@ pub enum Error {
         /// The barrier.
         barrier: usize,
     },
+    /// A disc is at least as wide as the box on an axis with walls: it fills the box from wall
+    /// to wall and cannot move (its wall collisions would all be at one instant).
+    #[error(
+        "disc {index}: diameter {diameter} does not fit in the box: it is not less than the length {length} of axis {axis}, which has walls (a disc that reaches from wall to wall cannot move)"
+    )]
+    DiscFillsBox {
+        /// Disc index.
+        index: usize,
+        /// Axis.
+        axis: usize,
+        /// The disc's diameter.
+        diameter: f64,
+        /// The box length on that axis.
+        length: f64,
+    },
+    /// A run was stopped because its clock stopped advancing (see
+    /// [`crate::simulation::Stall`]).
+    #[error("{0}")]
+    Stalled(crate::simulation::Stall),
     /// A requested value is out of range (generators, options).
     #[error("{0}")]
     Invalid(String),

@@ -42,6 +42,6 @@ pub use observer::{CollisionCounter, Observer};
 pub use resolve::CollisionRule;
 pub use simulation::{
     checkpoint_dim, is_checkpoint, MultiContact, Options, OverlapPolicy, OverlapReport, Simulation,
-    Stats, CHECKPOINT_VERSION, MAX_BARRIERS, OVERLAP_TOLERANCE,
+    Stall, Stats, CHECKPOINT_VERSION, MAX_BARRIERS, OVERLAP_TOLERANCE,
 };
 pub use state::{Barrier, Boundary, Colour, Demon, Disc, SimBox, System};

@@ -393,3 +393,50 @@ fn unreachable_requests_are_errors() {
         &["diffusion2", "collide"],
     );
 }
+
+// Regression: the library generators accepted packings near 0 (a fluid at packing 1e-300,
+// whose box is so large that melting by collisions never ends) and `dense` with one disc
+// (which never collides, so its compression never ends); only the command line refused them.
+#[test]
+fn generators_refuse_runs_that_never_finish() {
+    use edmd_core::setup::MIN_PACKING;
+    for packing in [1e-300, 1e-4, MIN_PACKING / 2.0] {
+        let fluid = Fluid {
+            n: 100,
+            packing,
+            ..Fluid::default()
+        };
+        invalid(fluid.generate(1), &["fluid", "packing"]);
+        assert!(matches!(
+            fluid.generate_in::<3>(1),
+            Err(Error::Invalid(m)) if m.contains("packing")
+        ));
+        invalid(generate(&GenKind::Fluid(fluid), 1), &["fluid", "packing"]);
+        let mixture = Mixture {
+            n: 100,
+            packing,
+            ..Mixture::default()
+        };
+        invalid(mixture.generate(1), &["packing"]);
+        invalid(
+            generate(
+                &GenKind::Dense(Dense {
+                    packing,
+                    ..Dense::default()
+                }),
+                1,
+            ),
+            &["dense", "packing"],
+        );
+    }
+    invalid(
+        generate(
+            &GenKind::Dense(Dense {
+                n: 1,
+                ..Dense::default()
+            }),
+            1,
+        ),
+        &["dense", "at least 2"],
+    );
+}

@@ -8,4 +8,5 @@ mod generators;
 mod invariants;
 mod naive_reference;
 mod physics;
+mod stall;
 mod three_d;

@@ -76,13 +76,13 @@ fn bench<const D: usize>(args: &BenchArgs) -> Result<BenchResult> {
     let e0 = sim.kinetic_energy();
     let melt = args.melt * args.n as u64;
     while sim.stats().disc_disc < melt {
-        sim.run_events(1 << 16, &mut ());
+        crate::run_events(&mut sim, 1 << 16)?;
     }
     let before = sim.stats();
     let target = before.disc_disc + args.collisions * args.n as u64;
     let started = Instant::now();
     while sim.stats().disc_disc < target {
-        sim.run_events(1 << 16, &mut ());
+        crate::run_events(&mut sim, 1 << 16)?;
     }
     let seconds = started.elapsed().as_secs_f64();
     let after = sim.stats();

@@ -6,7 +6,7 @@
 
 use std::io::Write;
 
-use anyhow::Result;
+use anyhow::{Context, Result};
 use clap::Parser;
 use edmd_core::{CollisionCounter, CollisionRule, Options, OverlapPolicy};
 use edmd_io::Format;
@@ -40,7 +40,7 @@ pub fn run(args: &ParticlesArgs, out: &mut impl Write) -> Result<()> {
         false,
     )?;
     let mut counter = CollisionCounter::new(sim.len());
-    sim.run_until(args.end_time, &mut counter);
+    crate::run_until(&mut sim, args.end_time, &mut counter).with_context(|| args.file.clone())?;
     let mut buf = String::with_capacity(48 * sim.len());
     for i in 0..sim.len() {
         let p = sim.position(i);

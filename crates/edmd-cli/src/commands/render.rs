@@ -343,7 +343,7 @@ fn render_in<const D: usize>(
             anyhow::bail!("interrupted at frame {k} of {frames}: nothing written");
         }
         let t = (k as f64 * args.time_scale / args.fps).min(args.until);
-        sim.run_until(t, &mut ());
+        crate::run_until(&mut sim, t, &mut ())?;
         picture(&sim, &mut pixmap);
         match &mut sink {
             Sink::Gif(enc) => {

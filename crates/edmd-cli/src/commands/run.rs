@@ -338,7 +338,7 @@ fn execute<const D: usize>(
         if next > args.until {
             break;
         }
-        run_to(&mut sim, next, &progress, &mut m.obs)?;
+        run_to(&mut sim, next, &progress, &mut m.obs, &args.file)?;
         if next_frame == Some(next) {
             let t = traj.as_mut().expect("frames only with a trajectory");
             edmd_io::xyz::write_frame(t.writer(), &sim.discs(), sim.sim_box(), next)?;
@@ -358,7 +358,7 @@ fn execute<const D: usize>(
             next_ck = args.checkpoint_every.map(|dt| ck_k * dt);
         }
     }
-    run_to(&mut sim, args.until, &progress, &mut m.obs)?;
+    run_to(&mut sim, args.until, &progress, &mut m.obs, &args.file)?;
     if let Some(p) = &args.checkpoint {
         write_checkpoint(p, &sim, &extra(&m)?)?;
     }
@@ -592,23 +592,20 @@ fn human(s: &Summary) -> String {
 
 /// Runs to time `t`, updating the progress bar, in chunks of events so that Ctrl-C is noticed
 /// (then the run is abandoned: nothing is written, temporary files are removed). Positions
-/// are computed on demand, so stopping between chunks does not change the trajectory.
+/// are computed on demand, so stopping between chunks does not change the trajectory. A run
+/// whose clock stops advancing fails the same way, naming the discs (`file` names the input).
 fn run_to<const D: usize, O: Observer<D>>(
     sim: &mut Simulation<D>,
     t: f64,
     progress: &Option<indicatif::ProgressBar>,
     obs: &mut O,
+    file: &str,
 ) -> Result<()> {
+    const CHUNK: u64 = 100_000;
     loop {
-        let mut more = true;
-        for _ in 0..100_000 {
-            match sim.step(t) {
-                Some(e) => obs.on_event(&e, sim),
-                None => {
-                    more = false;
-                    break;
-                }
-            }
+        let more = sim.run_events_to(t, CHUNK, obs) == CHUNK;
+        if let Some(s) = sim.stalled() {
+            return crate::user_error(format!("{file}: {s}; nothing written"));
         }
         if let Some(pb) = progress {
             let total = pb.length().unwrap_or(1) as f64;

@@ -182,7 +182,8 @@ fn soak<const D: usize>(args: &SoakArgs) -> Result<()> {
                 return user_error("soak: interrupted");
             }
             let left = target - sim.stats().disc_disc;
-            sim.run_events(left.clamp(1, 1 << 20), &mut ());
+            // A clock that stops is an error here too (named discs, exit status 2).
+            crate::run_events(&mut sim, left.clamp(1, 1 << 20))?;
         }
         let reading = read(&sim, e0, p0, p_scale);
         max_e = max_e.max(reading.energy_drift);

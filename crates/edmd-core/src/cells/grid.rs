@@ -44,34 +44,21 @@ impl<const D: usize> CellGrid<D> {
 
     /// A grid for `n` discs whose largest diameter is `max_diameter`.
     ///
-    /// Cells are at least `max_diameter` wide; in a sparse system they are made wider, so that
-    /// there are about two cells per disc at most and memory stays O(N).
+    /// Cells are at least `max_diameter` wide on every axis; in a sparse system they are made
+    /// wider, so that there are about two cells per disc and memory stays O(N) whatever the
+    /// box's shape: at most [`Self::max_cells`] cells in all (see [`Self::cell_counts`]).
     pub fn new(sim_box: &SimBox<D>, n: usize, max_diameter: f64) -> Result<Self, Error> {
-        let volume = sim_box.volume();
-        let sparse_width = (volume / (2.0 * n.max(1) as f64)).powf(1.0 / D as f64);
-        let target = max_diameter.max(sparse_width);
+        let counts = Self::cell_counts(sim_box, n, max_diameter)?;
         let mut dims = [1u32; D];
         let mut width = [0.0; D];
         let mut periodic = [false; D];
         let mut stride = [0usize; D];
         let mut total = 1usize;
         for a in 0..D {
-            let l = sim_box.lengths[a];
+            let d = counts[a];
             periodic[a] = sim_box.is_periodic(a);
-            let max_cells = ((l / max_diameter).floor() as u64).clamp(1, u32::MAX as u64 / 4);
-            let mut d = ((l / target).floor() as u64).clamp(1, max_cells);
-            if periodic[a] {
-                if max_cells < 3 {
-                    return Err(Error::PeriodicBoxTooSmall {
-                        axis: a,
-                        length: l,
-                        min: 3.0 * max_diameter,
-                    });
-                }
-                d = d.max(3);
-            }
             dims[a] = d as u32;
-            width[a] = l / d as f64;
+            width[a] = sim_box.lengths[a] / d as f64;
             stride[a] = total;
             total = total
                 .checked_mul(d as usize)
@@ -93,6 +80,95 @@ impl<const D: usize> CellGrid<D> {
             prev: vec![NONE; n],
             cell: vec![[0; D]; n],
         })
+    }
+
+    /// The most cells a grid for `n` discs has: `4 n + 3^D`.
+    pub fn max_cells(n: usize) -> usize {
+        4usize.saturating_mul(n.max(1)) + Self::NEIGHBOURS
+    }
+
+    /// Cells per axis for `n` discs whose largest diameter is `max_diameter`.
+    ///
+    /// First as the grid has always been sized: one cell width for every axis, the larger of
+    /// `max_diameter` and the width that gives two cells per disc over the whole box, each axis
+    /// then getting at least one cell (three on a periodic axis). For a box of ordinary shape
+    /// that makes at most about `2 N` cells and is kept as it is, so that trajectories do not
+    /// change. In a box much longer on one axis than on the others (`1 x 10^18`) the short axes
+    /// are rounded up to their one (or three) cells while the long one still gets its share of
+    /// the whole volume, which made `10^9` cells of 4 bytes each for two discs. So when that
+    /// count exceeds [`Self::max_cells`], the counts are shared out per axis instead: an axis
+    /// too short for its minimum count at the common width is given that minimum, the cell
+    /// budget `2 N` is divided by it, and the width is worked out again over the remaining
+    /// axes, until every remaining axis takes at least its minimum. Then the product of the
+    /// counts is at most `2 N` (or `3^D`, all axes at their minimum), and every cell is still
+    /// at least `max_diameter` wide.
+    pub fn cell_counts(
+        sim_box: &SimBox<D>,
+        n: usize,
+        max_diameter: f64,
+    ) -> Result<[u64; D], Error> {
+        let most = u32::MAX as u64 / 4;
+        let mut fewest = [1u64; D];
+        let mut widest = [1u64; D];
+        for a in 0..D {
+            let l = sim_box.lengths[a];
+            widest[a] = ((l / max_diameter).floor() as u64).clamp(1, most);
+            if sim_box.is_periodic(a) {
+                if widest[a] < 3 {
+                    return Err(Error::PeriodicBoxTooSmall {
+                        axis: a,
+                        length: l,
+                        min: 3.0 * max_diameter,
+                    });
+                }
+                fewest[a] = 3;
+            }
+        }
+        let cells = 2.0 * n.max(1) as f64;
+        let sized = |target: f64, a: usize| {
+            ((sim_box.lengths[a] / target).floor() as u64)
+                .clamp(1, widest[a])
+                .max(fewest[a])
+        };
+        let sparse_width = (sim_box.volume() / cells).powf(1.0 / D as f64);
+        let target = max_diameter.max(sparse_width);
+        let counts: [u64; D] = std::array::from_fn(|a| sized(target, a));
+        let total = counts.iter().fold(1u64, |t, &d| t.saturating_mul(d));
+        if total <= Self::max_cells(n) as u64 {
+            return Ok(counts);
+        }
+        let mut fixed = [false; D];
+        loop {
+            let (mut budget, mut volume, mut free) = (cells, 1.0, 0);
+            for a in 0..D {
+                if fixed[a] {
+                    budget /= fewest[a] as f64;
+                } else {
+                    volume *= sim_box.lengths[a];
+                    free += 1;
+                }
+            }
+            if free == 0 {
+                return Ok(fewest);
+            }
+            let target = max_diameter.max((volume / budget).powf(1.0 / free as f64));
+            let mut more = false;
+            for a in 0..D {
+                if !fixed[a] && sim_box.lengths[a] / target < fewest[a] as f64 {
+                    fixed[a] = true;
+                    more = true;
+                }
+            }
+            if !more {
+                return Ok(std::array::from_fn(|a| {
+                    if fixed[a] {
+                        fewest[a]
+                    } else {
+                        sized(target, a)
+                    }
+                }));
+            }
+        }
     }
 
     /// Number of cells per axis.
@@ -460,5 +536,108 @@ mod tests {
             CellGrid::new(&b, 4, 1.0),
             Err(Error::PeriodicBoxTooSmall { axis: 0, .. })
         ));
+    }
+    /// How the grid was sized before per-axis sizing: the reference for ordinary boxes.
+    fn old_dims<const D: usize>(b: &SimBox<D>, n: usize, max_diameter: f64) -> [u32; D] {
+        let sparse = (b.volume() / (2.0 * n.max(1) as f64)).powf(1.0 / D as f64);
+        let target = max_diameter.max(sparse);
+        std::array::from_fn(|a| {
+            let l = b.lengths[a];
+            let max_cells = ((l / max_diameter).floor() as u64).clamp(1, u32::MAX as u64 / 4);
+            let d = ((l / target).floor() as u64).clamp(1, max_cells);
+            (if b.is_periodic(a) { d.max(3) } else { d }) as u32
+        })
+    }
+
+    fn cells<const D: usize>(g: &CellGrid<D>) -> u64 {
+        g.dims().iter().map(|&d| d as u64).product()
+    }
+
+    // Regression: two discs in a `1 x 1e18` box took 4.2 GB (walls) or 12.6 GB (periodic) in
+    // `CellGrid::new`, and a course file with box `15.1 1e20` 4.2 GB: the short axis was
+    // rounded up to one cell (three when periodic) while the long one still got its share of the
+    // whole volume, about 10^9 cells.
+    #[test]
+    fn long_thin_boxes_get_few_cells() {
+        let cases_2d = [
+            ([1.0, 1e18], 2, 0.02),
+            ([1e18, 1.0], 2, 0.02),
+            ([15.1, 1e20], 2, 1.0),
+            ([1.0, 1e300], 1, 0.1),
+            ([1e-3, 1e3], 1000, 1e-4),
+        ];
+        for (lengths, n, d) in cases_2d {
+            for b in [SimBox::walls(lengths), SimBox::periodic(lengths)] {
+                let g = CellGrid::new(&b, n, d).unwrap();
+                assert!(
+                    cells(&g) <= CellGrid::<2>::max_cells(n) as u64,
+                    "{b:?}: {:?}",
+                    g.dims()
+                );
+                for a in 0..2 {
+                    assert!(
+                        b.lengths[a] / g.dims()[a] as f64 >= d,
+                        "{b:?}: {:?}",
+                        g.dims()
+                    );
+                    assert!(!b.is_periodic(a) || g.dims()[a] >= 3);
+                }
+            }
+        }
+        let cases_3d = [
+            ([1.0, 1.0, 1e18], 2, 0.02),
+            ([1.0, 1e18, 1e18], 2, 0.02),
+            ([1e18, 1.0, 1e9], 5, 0.02),
+            ([15.1, 15.1, 1e20], 2, 1.0),
+        ];
+        for (lengths, n, d) in cases_3d {
+            for b in [SimBox::walls(lengths), SimBox::periodic(lengths)] {
+                let g = CellGrid::new(&b, n, d).unwrap();
+                assert!(
+                    cells(&g) <= CellGrid::<3>::max_cells(n) as u64,
+                    "{b:?}: {:?}",
+                    g.dims()
+                );
+                for a in 0..3 {
+                    assert!(
+                        b.lengths[a] / g.dims()[a] as f64 >= d,
+                        "{b:?}: {:?}",
+                        g.dims()
+                    );
+                    assert!(!b.is_periodic(a) || g.dims()[a] >= 3);
+                }
+            }
+        }
+        // The long axis still gets cells: a thin box is cut across its length.
+        let g = CellGrid::new(&SimBox::walls([1.0, 1000.0]), 500, 0.5).unwrap();
+        assert_eq!(g.dims(), [1, 1000]);
+    }
+
+    // Per-axis sizing must not move a cell boundary in an ordinary box: the cells' edges decide
+    // when crossings happen, and so the rounding of every trajectory.
+    #[test]
+    fn ordinary_boxes_keep_their_grid() {
+        for n in [1, 2, 3, 10, 100, 1000, 12345, 1 << 20] {
+            for aspect in [1.0, 1.1, 1.5, 2.0, 3.0] {
+                for d in [0.01, 0.1, 1.0] {
+                    let l = (n as f64).sqrt() * 3.0 * d + 3.5 * d;
+                    for b in [
+                        SimBox::walls([l, l * aspect]),
+                        SimBox::periodic([l * aspect, l]),
+                    ] {
+                        let g = CellGrid::new(&b, n, d).unwrap();
+                        assert_eq!(g.dims(), old_dims(&b, n, d), "{b:?} n = {n}");
+                    }
+                    let l = (n as f64).cbrt() * 2.0 * d + 3.5 * d;
+                    for b in [
+                        SimBox::walls([l, l * aspect, l]),
+                        SimBox::periodic([l, l, l * aspect]),
+                    ] {
+                        let g = CellGrid::new(&b, n, d).unwrap();
+                        assert_eq!(g.dims(), old_dims(&b, n, d), "{b:?} n = {n}");
+                    }
+                }
+            }
+        }
     }
 }

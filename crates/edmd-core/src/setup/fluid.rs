@@ -41,6 +41,7 @@ use super::compress::compress;
 use super::generators::{BLUE, RED};
 use super::lattice::{ball_volume, close_packing, fcc_sites, root, thermal_velocities};
 use super::order::{fcc_order, psi6, Neighbours};
+use super::MIN_PACKING;
 use crate::error::Error;
 use crate::math::Vector;
 use crate::simulation::{Options, Simulation};
@@ -431,10 +432,11 @@ fn check(kind: &str, n: usize, packing: f64, dim: usize, recipe: &Recipe) -> Res
         return bad(format!("needs at least {MIN_FLUID_DISCS} discs, got {n}"));
     }
     let close = close_packing(dim);
-    if !(packing > 0.0 && packing < close) {
+    if !(packing >= MIN_PACKING && packing < close) {
         let what = if dim == 3 { "spheres" } else { "discs" };
         return bad(format!(
-            "packing fraction {packing} is outside (0, {close:.4}) (close packing of {what})"
+            "packing fraction {packing} is outside [{MIN_PACKING}, {close:.4}) (close packing of {what}; \
+             lower packings take hours to melt)"
         ));
     }
     if !(0.0..=0.5).contains(&recipe.vacancies) {

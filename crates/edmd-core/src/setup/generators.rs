@@ -27,6 +27,7 @@ use super::compress::compress;
 use super::fluid::{run_collisions, shuffle, Fluid, Mixture, Recipe};
 use super::lattice::{thermal_velocities, CLOSE_PACKING};
 use super::placement::{random_positions, Region};
+use super::MIN_PACKING;
 use crate::error::Error;
 use crate::math::Vector;
 use crate::simulation::{Options, Simulation};
@@ -659,12 +660,13 @@ fn diffusion2(p: &Diffusion2, rng: &mut impl Rng) -> Result<Vec<Disc>, Error> {
 
 fn dense(p: &Dense, rng: &mut impl Rng) -> Result<Vec<Disc>, Error> {
     let kind = "dense";
-    at_least(kind, p.n, 1)?;
+    // One disc never collides, so compressing it (and equilibrating it) never ends.
+    at_least(kind, p.n, 2)?;
     positive(kind, "mass", p.mass)?;
     positive(kind, "kT", p.kt)?;
-    if !(p.packing > 0.0 && p.packing < CLOSE_PACKING) {
+    if !(p.packing >= MIN_PACKING && p.packing < CLOSE_PACKING) {
         return Err(Error::Invalid(format!(
-            "dense: packing fraction {} is outside (0, {CLOSE_PACKING:.4})",
+            "dense: packing fraction {} is outside [{MIN_PACKING}, {CLOSE_PACKING:.4})",
             p.packing
         )));
     }

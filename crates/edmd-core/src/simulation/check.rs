@@ -85,12 +85,17 @@ pub(super) fn validate_discs<const D: usize>(
         if !(0.5 * d.mass * d.vel.norm2()).is_finite() {
             return bad("kinetic energy is not finite (speed or mass too large)");
         }
+        // A disc exactly as wide as the box is refused too: its wall collisions would all be
+        // at one instant, and the clock would never advance. (On a periodic axis the cell grid
+        // refuses boxes under 3 diameters, so a disc never meets its own image.)
         for a in 0..D {
-            if !sim_box.is_periodic(a) && 2.0 * d.radius > sim_box.lengths[a] {
-                return bad(&format!(
-                    "diameter {} does not fit in the box",
-                    2.0 * d.radius
-                ));
+            if !sim_box.is_periodic(a) && 2.0 * d.radius >= sim_box.lengths[a] {
+                return Err(Error::DiscFillsBox {
+                    index: k,
+                    axis: a,
+                    diameter: 2.0 * d.radius,
+                    length: sim_box.lengths[a],
+                });
             }
         }
     }

@@ -8,6 +8,7 @@ use crate::observer::Observer;
 use crate::resolve::wall::reflect;
 use crate::schedule::EventQueue;
 
+use super::stall::STALL_CHUNK;
 use super::{Simulation, NO_DISC};
 
 /// Whether this processor runs the event loop compiled for x86-64-v3 (AVX, AVX2, FMA, BMI1,
@@ -56,17 +57,56 @@ impl<const D: usize> Simulation<D> {
     /// Processes every event with time `<= t_end`, showing each to `observer`, then sets the
     /// current time to `t_end` (if later). Discs are not moved by this last step: positions are
     /// computed on demand, so stopping at intermediate times never changes the trajectory.
+    ///
+    /// If the clock stops advancing (more than [`Self::stall_limit`] events in a row at one
+    /// time), the run stops there instead, the clock stays at that time and
+    /// [`Self::stalled`] says why; check it after running.
     pub fn run_until<O: Observer<D>>(&mut self, t_end: f64, observer: &mut O) {
         self.run_loop(t_end, u64::MAX, observer);
-        if t_end > self.now {
+        if t_end > self.now && self.stall.is_none() {
             self.now = t_end;
         }
     }
 
     /// Processes up to `n` events (cell crossings included) regardless of time, showing each to
-    /// `observer`. Returns how many were processed (fewer only if nothing will ever happen).
+    /// `observer`. Returns how many were processed (fewer only if nothing will ever happen, or
+    /// the clock stopped advancing: [`Self::stalled`]).
     pub fn run_events<O: Observer<D>>(&mut self, n: u64, observer: &mut O) -> u64 {
         self.run_loop(f64::INFINITY, n, observer)
+    }
+
+    /// Processes up to `n` events with time `<= t_limit`, showing each to `observer`, without
+    /// moving the clock on to `t_limit` afterwards (as [`Self::run_until`] does). Returns how
+    /// many were processed (fewer if the next event is later than `t_limit`, nothing will ever
+    /// happen, or the clock stopped advancing: [`Self::stalled`]). For running in slices, for
+    /// example to watch for Ctrl-C.
+    pub fn run_events_to<O: Observer<D>>(&mut self, t_limit: f64, n: u64, observer: &mut O) -> u64 {
+        self.run_loop(t_limit, n, observer)
+    }
+
+    /// Processes up to `n` events with time `<= t_limit`; returns how many. Runs the loop in
+    /// chunks of at most `STALL_CHUNK` events and looks at the clock between chunks, so that a
+    /// run whose clock stops advancing stops (`stall.rs`) at no cost per event.
+    pub(super) fn run_loop<O: Observer<D>>(
+        &mut self,
+        t_limit: f64,
+        n: u64,
+        observer: &mut O,
+    ) -> u64 {
+        let mut done = 0;
+        while done < n && self.stall.is_none() {
+            let k = (n - done).min(STALL_CHUNK);
+            let before = self.event_time;
+            let got = self.run_chunk(t_limit, k, observer);
+            done += got;
+            if self.count_still(before, got) {
+                self.stall_seen(t_limit, observer);
+            }
+            if got < k {
+                break;
+            }
+        }
+        done
     }
 
     /// Processes up to `n` events with time `<= t_limit`; returns how many.
@@ -77,12 +117,7 @@ impl<const D: usize> Simulation<D> {
     /// 3-operand instructions make it about 10% faster (BENCHMARKS.md). Both copies are the
     /// same Rust code and give bit-identical results: Rust never fuses a multiply and an add
     /// by itself, so the extra instructions change nothing but speed.
-    pub(super) fn run_loop<O: Observer<D>>(
-        &mut self,
-        t_limit: f64,
-        n: u64,
-        observer: &mut O,
-    ) -> u64 {
+    fn run_chunk<O: Observer<D>>(&mut self, t_limit: f64, n: u64, observer: &mut O) -> u64 {
         #[cfg(target_arch = "x86_64")]
         if self.v3 {
             // SAFETY: `run_loop_v3` only needs the processor features, and `v3` is only set
@@ -93,7 +128,7 @@ impl<const D: usize> Simulation<D> {
         self.run_loop_inline(t_limit, n, observer)
     }
 
-    /// [`Self::run_loop`] compiled for x86-64-v3.
+    /// [`Self::run_chunk`] compiled for x86-64-v3.
     ///
     /// # Safety
     /// The processor must have the features named here ([`x86_64_v3`] checks them).
@@ -138,9 +173,19 @@ impl<const D: usize> Simulation<D> {
         self.v3
     }
 
-    /// Processes the next event if its time is `<= t_limit` and returns it.
+    /// Processes the next event if its time is `<= t_limit` and returns it. Returns `None`
+    /// without processing anything once the clock has stopped advancing ([`Self::stalled`]),
+    /// which is counted here event by event.
     pub fn step(&mut self, t_limit: f64) -> Option<EventRecord<D>> {
-        self.step_inline(t_limit)
+        if self.stall.is_some() {
+            return None;
+        }
+        let before = self.event_time;
+        let e = self.step_inline(t_limit)?;
+        if self.count_still(before, 1) {
+            self.stall_pending();
+        }
+        Some(e)
     }
 
     #[inline(always)]

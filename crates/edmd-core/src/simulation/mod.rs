@@ -13,7 +13,8 @@
 //! 4. Observers are shown the event.
 //!
 //! The loop is compiled twice, portable and for x86-64-v3, and the copy is chosen at run time
-//! (`run_loop`); both give bit-identical results.
+//! (`run_chunk`); both give bit-identical results. Between chunks of events the loop looks at
+//! the clock, and stops a run whose clock has stopped advancing (`stall.rs`).
 //!
 //! # Exactness
 //! Event times are `t_event + dt` with `dt >= 0` from the closed-form kernels, so time never goes
@@ -34,11 +35,13 @@ mod event_loop;
 mod options;
 mod persist;
 mod predict;
+mod stall;
 
 pub use check::OverlapReport;
 pub use event_loop::x86_64_v3_available;
 pub use options::{MultiContact, Options, OverlapPolicy, Stats, OVERLAP_TOLERANCE};
 pub use persist::{checkpoint_dim, is_checkpoint, FORMAT_VERSION as CHECKPOINT_VERSION};
+pub use stall::{Stall, MIN_STALL_EVENTS, STALL_EVENTS_PER_DISC};
 
 use crate::cells::CellGrid;
 use crate::error::Error;
@@ -109,8 +112,12 @@ pub struct Simulation<const D: usize = 2> {
     multi: Option<MultiContact>,
     /// The discs of the last multi-disc collision.
     last_cluster: Vec<usize>,
-    /// Run the event loop compiled for x86-64-v3 (see `run_loop`).
+    /// Run the event loop compiled for x86-64-v3 (see `run_chunk`).
     v3: bool,
+    /// Events in a row at `event_time` counted so far (a lower bound; see `stall.rs`).
+    still: u64,
+    /// Set when the clock stopped advancing: the loops then do nothing.
+    stall: Option<Stall>,
 }
 
 /// "No partner found" in `predict` (disc indices are below `u32::MAX`).
@@ -243,6 +250,8 @@ impl<const D: usize> Simulation<D> {
             multi: options.multi,
             last_cluster: Vec::new(),
             v3: false,
+            still: 0,
+            stall: None,
         };
         sim.set_portable_loop(false);
         validate_barriers(barriers, &sim.sim_box)?;

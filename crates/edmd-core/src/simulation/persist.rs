@@ -3,7 +3,8 @@
 //! A checkpoint holds every disc's own clock, position and velocity at that clock (the bits,
 //! not a rounded copy), its counter and pending event, mass, radius, colour, species and
 //! periodic images; the cell grid's lists in their order (the order in which a prediction
-//! meets candidates decides exact ties); the counters, the options, the barriers, and bytes the
+//! meets candidates decides exact ties); the counters (the count of events in a row at one time
+//! that watches for a stalled clock included), the options, the barriers, and bytes the
 //! caller adds (the command line keeps its run's options and measurements there). The event
 //! queue is rebuilt from the discs' event times: it hands out events by `(time, disc)` whatever
 //! its internal layout, so the rebuilt queue gives the same events in the same order. A run
@@ -23,7 +24,7 @@ use crate::resolve::CollisionRule;
 use crate::schedule::{CalendarQueue, EventQueue};
 use crate::state::{Barrier, Boundary, Demon, SimBox};
 
-use super::{Body, MultiContact, Simulation, Stats};
+use super::{Body, MultiContact, Simulation, Stall, Stats};
 
 /// The first bytes of every checkpoint.
 pub const MAGIC: &[u8; 8] = b"EDMDCKPT";
@@ -300,6 +301,20 @@ impl<const D: usize> Simulation<D> {
         for &k in &self.last_cluster {
             w.len(k);
         }
+        w.u64(self.still);
+        match &self.stall {
+            None => w.u8(0),
+            Some(s) => {
+                w.u8(1);
+                w.f64(s.time);
+                w.u64(s.events);
+                w.len(s.count);
+                w.len(s.discs.len());
+                for &d in &s.discs {
+                    w.len(d);
+                }
+            }
+        }
         w.bytes(extra);
         let payload = (w.0.len() - HEADER) as u64;
         w.0[16..24].copy_from_slice(&payload.to_le_bytes());
@@ -457,6 +472,9 @@ impl<const D: usize> Simulation<D> {
                     "disc {i}: a position, velocity, clock or radius that is not a finite number"
                 ));
             }
+            if (0..D).any(|a| !sim_box.is_periodic(a) && 2.0 * radius >= sim_box.lengths[a]) {
+                return bad(format!("disc {i}: radius {radius} fills the box"));
+            }
             let t = r.f64()?;
             if t.is_nan() || t < event_time {
                 return bad(format!(
@@ -525,6 +543,34 @@ impl<const D: usize> Simulation<D> {
             }
             last_cluster.push(d);
         }
+        let still = r.u64()?;
+        let stall = match r.u8()? {
+            0 => None,
+            1 => {
+                let time = r.f64()?;
+                let events = r.u64()?;
+                let count = r.u64()? as usize;
+                let named = r.len(8)?;
+                if named > Stall::NAMED || named > count || count > n {
+                    return bad(format!("a stall naming {named} of {count} discs"));
+                }
+                let mut discs = Vec::with_capacity(named);
+                for _ in 0..named {
+                    let d = r.u64()? as usize;
+                    if d >= n {
+                        return bad(format!("stalled disc {d} of {n}"));
+                    }
+                    discs.push(d);
+                }
+                Some(Stall {
+                    time,
+                    events,
+                    discs,
+                    count,
+                })
+            }
+            x => return bad(format!("stall code {x}")),
+        };
         let extra = r.bytes()?.to_vec();
         if r.at != payload.len() {
             return bad("bytes after the end of the state");
@@ -555,6 +601,8 @@ impl<const D: usize> Simulation<D> {
             multi,
             last_cluster,
             v3: false,
+            still,
+            stall,
         };
         sim.set_portable_loop(false);
         Ok((sim, extra))

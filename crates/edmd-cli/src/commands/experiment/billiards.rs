@@ -141,7 +141,7 @@ pub fn run(args: &BilliardsArgs) -> Result<()> {
             },
         )?;
         let e0 = sim.kinetic_energy();
-        sim.run_until(strike + 0.02, &mut ());
+        crate::run_until(&mut sim, strike + 0.02, &mut ())?;
         let mismatch = twins
             .iter()
             .enumerate()
@@ -160,7 +160,7 @@ pub fn run(args: &BilliardsArgs) -> Result<()> {
         let mut rows = Vec::new();
         for k in 0..=steps {
             let t = strike - 0.2 + (args.follow + 0.2) * k as f64 / steps as f64;
-            sim.run_until(t, &mut ());
+            crate::run_until(&mut sim, t, &mut ())?;
             for (i, p) in paths.iter_mut().enumerate() {
                 let q = sim.position(i);
                 p.push((q[0], q[1]));

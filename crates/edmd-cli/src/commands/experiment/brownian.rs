@@ -85,7 +85,7 @@ pub fn run(args: &BrownianArgs) -> Result<()> {
         if stop_requested() {
             break;
         }
-        sim.run_until(k as f64 * dt, &mut ());
+        crate::run_until(&mut sim, k as f64 * dt, &mut ())?;
         path.push((sim.time(), sim.position(big)));
         progress.set(k as u64);
     }

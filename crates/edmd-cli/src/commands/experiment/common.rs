@@ -171,16 +171,15 @@ pub fn melted_fluid_in<const D: usize>(
         .or_else(|e| crate::user_error(e.to_string()))?;
     let (c0, t0) = (sim.stats().disc_disc, sim.time());
     while sim.stats().disc_disc - c0 < melt * n as u64 {
-        sim.run_events(10_000, &mut ());
+        crate::run_events(&mut sim, 10_000)?;
     }
     let rate = 2.0 * (sim.stats().disc_disc - c0) as f64
         / (n as f64 * (sim.time() - t0).max(f64::MIN_POSITIVE));
     Ok((sim, rate))
 }
 
-/// The lowest packing fraction of a melted fluid: below it, melting by collisions takes hours
-/// (each collision costs some hundreds of cell crossings at 1e-3 already).
-pub const MIN_PACKING: f64 = 1e-3;
+/// The lowest packing fraction of a melted fluid (the engine's generators refuse lower ones).
+pub use edmd_core::setup::MIN_PACKING;
 
 /// The most discs a command generates.
 pub const MAX_N: usize = 10_000_000;

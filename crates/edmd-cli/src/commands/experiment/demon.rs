@@ -152,7 +152,11 @@ pub fn run(args: &DemonArgs) -> Result<()> {
         if stop_requested() {
             break;
         }
-        sim.run_until(args.until * k as f64 / args.samples as f64, &mut watch);
+        crate::run_until(
+            &mut sim,
+            args.until * k as f64 / args.samples as f64,
+            &mut watch,
+        )?;
         let (t, _) = sides(&sim, x0);
         series.push((sim.time(), t[0], t[1]));
         progress.set(k as u64);

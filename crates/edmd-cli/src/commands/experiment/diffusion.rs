@@ -95,7 +95,7 @@ pub fn run(args: &DiffusionArgs) -> Result<()> {
         if stop_requested() {
             break;
         }
-        sim.run_until(t, &mut ());
+        crate::run_until(&mut sim, t, &mut ())?;
         if fraction {
             halves.sample(&sim);
         }

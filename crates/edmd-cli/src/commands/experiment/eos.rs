@@ -155,7 +155,7 @@ fn run_in<const D: usize>(args: &EosArgs) -> Result<()> {
                 break 'packings;
             }
             let t = sim.time() + block;
-            sim.run_until(t, &mut (&mut pressure, &mut collisions));
+            crate::run_until(&mut sim, t, &mut (&mut pressure, &mut collisions))?;
             pressure.sample(&sim);
             collisions.sample(&sim);
             progress.set((k * args.blocks + b + 1) as u64);

@@ -141,7 +141,7 @@ fn run_in<const D: usize>(args: &MaxwellArgs) -> Result<()> {
     // Relax for 30 collisions per disc, then a snapshot every 5.
     let n = args.n as u64;
     while sim.stats().disc_disc < 30 * n {
-        sim.run_events(10_000, &mut ());
+        crate::run_events(&mut sim, 10_000)?;
     }
     let mut speeds = Speeds::new(args.bins, max);
     let progress = Progress::new(args.snapshots as u64, "maxwell");
@@ -151,7 +151,7 @@ fn run_in<const D: usize>(args: &MaxwellArgs) -> Result<()> {
         }
         let target = sim.stats().disc_disc + 5 * n;
         while sim.stats().disc_disc < target {
-            sim.run_events(10_000, &mut ());
+            crate::run_events(&mut sim, 10_000)?;
         }
         speeds.sample(&sim);
         progress.set(k as u64 + 1);

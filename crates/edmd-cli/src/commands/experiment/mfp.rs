@@ -131,10 +131,8 @@ fn run_in<const D: usize>(args: &MfpArgs) -> Result<()> {
         let t_end = sim.time() + args.measure as f64 / rate;
         let blocks = 10;
         for b in 1..=blocks {
-            sim.run_until(
-                sim.time() + (t_end - sim.time()) / (blocks - b + 1) as f64,
-                &mut obs,
-            );
+            let t = sim.time() + (t_end - sim.time()) / (blocks - b + 1) as f64;
+            crate::run_until(&mut sim, t, &mut obs)?;
             obs.sample(&sim);
         }
         let s = obs.summary();

@@ -75,7 +75,7 @@ pub fn run(args: &ReversibilityArgs) -> Result<()> {
     // Start from a melted state, not the lattice.
     let mut melt = Simulation::new(&discs, bx, Options::default())?;
     while melt.stats().disc_disc < 20 * args.n as u64 {
-        melt.run_events(10_000, &mut ());
+        crate::run_events(&mut melt, 10_000)?;
     }
     let start: Vec<Disc> = melt.discs();
     let diameter = 2.0 * start[0].radius;
@@ -87,10 +87,10 @@ pub fn run(args: &ReversibilityArgs) -> Result<()> {
         }
         let mut sim = Simulation::new(&start, bx, Options::default())?;
         let e0 = sim.kinetic_energy();
-        sim.run_until(t, &mut ());
+        crate::run_until(&mut sim, t, &mut ())?;
         let collisions = sim.stats().disc_disc;
         sim.reverse_velocities();
-        sim.run_until(2.0 * t, &mut ());
+        crate::run_until(&mut sim, 2.0 * t, &mut ())?;
         let d2: Vec<f64> = start
             .iter()
             .enumerate()

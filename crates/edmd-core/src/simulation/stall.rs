@@ -1,0 +1,164 @@
+//! Runs whose clock stops advancing.
+//!
+//! Exact event times only move forward, but they can stop moving: discs jammed so that every
+//! event they have is at `dt = 0` (a column of touching discs filling the box's height, a
+//! square lattice of touching discs filling the box) collide with each other for ever at one
+//! instant, and the run would never reach its end time. The event loop cannot fail, so it
+//! counts instead: [`Simulation::run_until`] and the other loops stop when more than
+//! [`Simulation::stall_limit`] events in a row have happened at one time, and record a
+//! [`Stall`], which [`Simulation::stalled`] returns. The loop then does nothing more.
+//!
+//! The loop counts whole chunks of events rather than single events (a chunk in which the time
+//! did not advance adds its events; one in which it did starts the count again), so the count
+//! costs nothing per event and the two compiled copies of the loop are untouched. A stall is
+//! therefore noticed between [`Simulation::stall_limit`] and that plus [`STALL_CHUNK`] events
+//! after it began; the count never exceeds the true number of events in a row at that time.
+
+use std::fmt;
+
+use super::Simulation;
+use crate::events::EventKind;
+use crate::observer::Observer;
+use crate::schedule::EventQueue;
+
+/// The most events the loop processes between two looks at the clock.
+pub(super) const STALL_CHUNK: u64 = 1 << 16;
+
+/// Events run after the limit to see which discs take part in a stall.
+pub(super) const STALL_SAMPLE: u64 = 4096;
+
+/// The fewest events in a row at one time that count as a stall, whatever the number of discs.
+pub const MIN_STALL_EVENTS: u64 = 1_000_000;
+
+/// Events in a row at one time per disc that count as a stall (see [`Simulation::stall_limit`]).
+pub const STALL_EVENTS_PER_DISC: u64 = 100;
+
+/// A run stopped because its clock stopped advancing.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Stall {
+    /// The time at which the clock stopped.
+    pub time: f64,
+    /// Events counted at that time before the run was stopped (a lower bound).
+    pub events: u64,
+    /// The discs that took part in the last events at that time (or, when the run went event
+    /// by event with [`Simulation::step`], those with an event pending at that time), lowest
+    /// index first: at most [`Stall::NAMED`] of them.
+    pub discs: Vec<usize>,
+    /// How many discs took part (or had an event pending).
+    pub count: usize,
+}
+
+impl Stall {
+    /// The most discs a stall names.
+    pub const NAMED: usize = 8;
+}
+
+impl fmt::Display for Stall {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(
+            f,
+            "the clock stopped advancing at t = {}: {} events in a row at that time",
+            self.time, self.events
+        )?;
+        if !self.discs.is_empty() {
+            let names: Vec<String> = self.discs.iter().map(|d| d.to_string()).collect();
+            let s = if self.count == 1 { "" } else { "s" };
+            write!(f, ", among disc{s} {} (from 0", names.join(", "))?;
+            if self.count > self.discs.len() {
+                write!(f, "; {} in all", self.count)?;
+            }
+            write!(f, ")")?;
+        }
+        write!(f, "; discs jammed at contact cannot move")
+    }
+}
+
+impl<const D: usize> Simulation<D> {
+    /// The stall that stopped this simulation's event loop, if any (see [`Stall`]). Once
+    /// stalled, the loops process no more events and [`Self::run_until`] leaves the clock where
+    /// it stopped.
+    pub fn stalled(&self) -> Option<&Stall> {
+        self.stall.as_ref()
+    }
+
+    /// Events in a row at one time beyond which the loop stops: `max(10^6, 100 N)`.
+    ///
+    /// A legitimate instant can hold many events: in a perfect lattice every disc may cross a
+    /// cell boundary on each axis and meet each of its nearest neighbours (6 in a triangular
+    /// lattice, 12 in a face-centred cubic one) at the same time, some `D + 12` events per disc
+    /// at most; 100 per disc leaves a wide margin. The floor of `10^6` (well under a second of
+    /// events) keeps small systems from being stopped by chance.
+    pub fn stall_limit(&self) -> u64 {
+        MIN_STALL_EVENTS.max(STALL_EVENTS_PER_DISC.saturating_mul(self.body.len() as u64))
+    }
+
+    /// Counts `events` just processed, all at time `before` if the clock still reads it.
+    /// Returns true past the limit: the caller then records the stall ([`Self::stall_seen`] or
+    /// [`Self::stall_pending`]).
+    #[inline]
+    pub(super) fn count_still(&mut self, before: f64, events: u64) -> bool {
+        if events == 0 {
+            return false;
+        }
+        if self.event_time != before {
+            self.still = 0;
+            return false;
+        }
+        self.still = self.still.saturating_add(events);
+        self.still > self.stall_limit()
+    }
+
+    /// Past the limit in the loop: runs up to [`STALL_SAMPLE`] more events (shown to
+    /// `observer` like any other) to see which discs take part, and records the stall naming
+    /// them; unless the clock moves on after all, which starts the count again.
+    #[cold]
+    #[inline(never)]
+    pub(super) fn stall_seen<O: Observer<D>>(&mut self, t_limit: f64, observer: &mut O) {
+        let t = self.event_time;
+        let mut discs = Vec::new();
+        for _ in 0..STALL_SAMPLE {
+            let Some(e) = self.step_inline(t_limit) else {
+                return;
+            };
+            observer.on_event(&e, self);
+            if self.event_time != t {
+                self.still = 0;
+                return;
+            }
+            self.still = self.still.saturating_add(1);
+            match e.kind {
+                EventKind::DiscDisc { i, j } => discs.extend([i, j]),
+                EventKind::Wall { i, .. }
+                | EventKind::Barrier { i, .. }
+                | EventKind::CellCrossing { i, .. } => discs.push(i),
+            }
+            discs.extend(self.last_cluster.iter().copied());
+        }
+        discs.sort_unstable();
+        discs.dedup();
+        self.record_stall(discs);
+    }
+
+    /// Past the limit in [`Self::step`], which has no observer to show more events to: records
+    /// the stall naming the discs whose next event is at the stalled time.
+    #[cold]
+    #[inline(never)]
+    pub(super) fn stall_pending(&mut self) {
+        let t = self.event_time;
+        let discs = (0..self.body.len())
+            .filter(|&i| self.queue.get(i) == t)
+            .collect();
+        self.record_stall(discs);
+    }
+
+    fn record_stall(&mut self, mut discs: Vec<usize>) {
+        let count = discs.len();
+        discs.truncate(Stall::NAMED);
+        self.stall = Some(Stall {
+            time: self.event_time,
+            events: self.still,
+            discs,
+            count,
+        });
+    }
+}

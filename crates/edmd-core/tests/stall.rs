@@ -1,0 +1,193 @@
+//! Issue 10: time that stops advancing hung the program. A disc as wide as the box is refused
+//! when the simulation is built; discs jammed so that their events all fall at one instant stop
+//! the run with a [`Stall`] naming them, within the documented limit of events.
+
+use edmd_core::simulation::{Stall, MIN_STALL_EVENTS};
+use edmd_core::{Disc, Error, Options, SimBox, Simulation, Vector};
+
+fn disc<const D: usize>(pos: [f64; D], vel: [f64; D], radius: f64) -> Disc<D> {
+    Disc {
+        pos: Vector::new(pos),
+        vel: Vector::new(vel),
+        mass: 1.0,
+        radius,
+        colour: [0, 0, 0],
+        species: 0,
+    }
+}
+
+/// A column of `n` touching discs of diameter 1 filling the height of a `5 x n` walled box,
+/// moving up and down at different speeds.
+fn column(n: usize) -> Simulation {
+    let discs: Vec<Disc> = (0..n)
+        .map(|k| disc([2.5, 0.5 + k as f64], [0.0, 0.3 - 0.1 * k as f64], 0.5))
+        .collect();
+    Simulation::new(&discs, SimBox::walls([5.0, n as f64]), Options::default()).unwrap()
+}
+
+/// A `k x k` square lattice of touching discs of diameter 1 filling a `k x k` walled box.
+fn square_lattice(k: usize) -> Simulation {
+    let mut discs = Vec::new();
+    for i in 0..k {
+        for j in 0..k {
+            let (a, b) = (i as f64, j as f64);
+            discs.push(disc(
+                [0.5 + a, 0.5 + b],
+                [
+                    ((a * 7.0 + b * 3.0) % 5.0) - 2.0,
+                    ((a * 3.0 + b) % 3.0) - 1.0,
+                ],
+                0.5,
+            ));
+        }
+    }
+    let kf = k as f64;
+    Simulation::new(&discs, SimBox::walls([kf, kf]), Options::default()).unwrap()
+}
+
+/// Asserts a stall at time 0 within the limit plus one chunk and the sample, naming `named`.
+fn assert_stalled(sim: &Simulation, named: &[usize], count: usize) -> Stall {
+    let s = sim.stalled().expect("the run stalled").clone();
+    assert_eq!(s.time, 0.0);
+    assert!(s.events > sim.stall_limit(), "{s:?}");
+    assert!(s.events < sim.stall_limit() + 2 * (1 << 16) + 4096, "{s:?}");
+    assert_eq!(s.discs, named, "{s}");
+    assert_eq!(s.count, count, "{s}");
+    assert_eq!(sim.time(), 0.0, "the clock must stay where it stopped");
+    let text = s.to_string();
+    assert!(text.contains("clock stopped advancing at t = 0"), "{text}");
+    assert!(text.contains("discs 0, 1, 2"), "{text}");
+    s
+}
+
+// Regression (issue 10): a disc of radius exactly half the box (`1` / `0.5 0.5 0.01 0 0.5 ...`)
+// bounced between the walls at one instant for ever. Refused now, in 2D and 3D; on a periodic
+// axis the cell grid refuses any box under 3 diameters.
+#[test]
+fn disc_as_wide_as_the_box_is_refused() {
+    let d = [disc([0.5, 0.5], [0.01, 0.0], 0.5)];
+    assert_eq!(
+        Simulation::new(&d, SimBox::unit(), Options::default()).unwrap_err(),
+        Error::DiscFillsBox {
+            index: 0,
+            axis: 0,
+            diameter: 1.0,
+            length: 1.0
+        }
+    );
+    let d = [disc([0.5, 1.0], [0.0, 1.0], 0.5)];
+    assert!(matches!(
+        Simulation::new(&d, SimBox::walls([2.0, 1.0]), Options::default()),
+        Err(Error::DiscFillsBox { axis: 1, .. })
+    ));
+    let d = [disc([1.0, 1.0, 0.5], [0.0, 0.0, 1.0], 0.5)];
+    assert!(matches!(
+        Simulation::new(&d, SimBox::walls([2.0, 2.0, 1.0]), Options::default()),
+        Err(Error::DiscFillsBox { axis: 2, .. })
+    ));
+    let d = [disc([0.5, 0.5], [0.01, 0.0], 0.5)];
+    assert!(matches!(
+        Simulation::new(&d, SimBox::periodic([1.0, 1.0]), Options::default()),
+        Err(Error::PeriodicBoxTooSmall { .. })
+    ));
+    // Just narrower than the box: it moves, and the clock advances.
+    let d = [disc([0.5, 0.5], [1.0, 0.0], 0.499)];
+    let mut sim = Simulation::new(&d, SimBox::walls([1.0, 2.0]), Options::default()).unwrap();
+    sim.run_until(1.0, &mut ());
+    assert!(sim.stalled().is_none());
+    assert!((499..=501).contains(&sim.stats().wall), "{:?}", sim.stats());
+}
+
+// Regression (issue 10): a column of touching discs filling the box's height collided at one
+// instant for ever, and `run_until` never returned.
+#[test]
+fn jammed_column_stops_and_names_its_discs() {
+    let mut sim = column(10);
+    sim.run_until(10.0, &mut ());
+    let s = assert_stalled(&sim, &[0, 1, 2, 3, 4, 5, 6, 7], 10);
+    // Stalled for good: nothing more happens, the clock stays.
+    let stats = sim.stats();
+    sim.run_until(20.0, &mut ());
+    assert_eq!(sim.run_events(100, &mut ()), 0);
+    assert!(sim.step(30.0).is_none());
+    assert_eq!(sim.stats(), stats);
+    assert_eq!(sim.time(), 0.0);
+    assert_eq!(sim.stalled(), Some(&s));
+}
+
+// Regression (issue 10): a 20 x 20 square lattice of touching discs filling the box never
+// ended.
+#[test]
+fn jammed_square_lattice_stops() {
+    let mut sim = square_lattice(20);
+    assert_eq!(sim.stall_limit(), MIN_STALL_EVENTS);
+    sim.run_until(1.0, &mut ());
+    let s = sim.stalled().expect("stalled");
+    assert!(
+        s.count >= 2 && s.discs.len() == s.count.min(Stall::NAMED),
+        "{s}"
+    );
+}
+
+// Event by event (`step`), as the viewer goes, the count is kept per event and the stall names
+// the discs with an event pending at that instant.
+#[test]
+fn stepping_a_jammed_column_stops() {
+    let mut sim = column(10);
+    let mut k = 0u64;
+    while sim.step(10.0).is_some() {
+        k += 1;
+        assert!(k <= MIN_STALL_EVENTS + 1, "step never stopped");
+    }
+    assert_eq!(k, MIN_STALL_EVENTS + 1);
+    let s = sim.stalled().expect("stalled");
+    assert_eq!(s.events, MIN_STALL_EVENTS + 1);
+    assert!(!s.discs.is_empty());
+}
+
+// Many simultaneous events are not a stall: a square lattice of touching discs all moving
+// alike (so never colliding), one disc in the middle of each cell, crosses cell boundaries all
+// at once, 900 events at a time, many times over; the count starts again at each instant.
+#[test]
+fn simultaneous_events_are_not_a_stall() {
+    let mut discs = Vec::new();
+    for i in 0..30 {
+        for j in 0..30 {
+            discs.push(disc(
+                [1.0 + 2.0 * i as f64, 1.0 + 2.0 * j as f64],
+                [1.0, 0.5],
+                1.0,
+            ));
+        }
+    }
+    let mut sim =
+        Simulation::new(&discs, SimBox::periodic([60.0, 60.0]), Options::default()).unwrap();
+    assert_eq!(sim.grid_dims(), [30, 30]);
+    sim.run_until(200.0, &mut ());
+    assert!(sim.stalled().is_none());
+    assert_eq!(sim.time(), 200.0);
+    assert_eq!(sim.stats().disc_disc, 0);
+    assert!(sim.stats().cell_crossing >= 130_000, "{:?}", sim.stats());
+}
+
+// The count of events in a row is part of the state: a run checkpointed in the middle of a
+// stall and continued stops exactly where the run that was never checkpointed stops (without
+// the count it would go on for 500 000 events more), and a stalled state reads back stalled.
+#[test]
+fn stall_count_survives_a_checkpoint() {
+    let mut sim = column(10);
+    assert_eq!(sim.run_events(500_000, &mut ()), 500_000);
+    assert!(sim.stalled().is_none());
+    let (mut resumed, _) = Simulation::<2>::from_checkpoint(&sim.to_checkpoint(b"")).unwrap();
+    sim.run_until(10.0, &mut ());
+    resumed.run_until(10.0, &mut ());
+    assert!(sim.stalled().is_some());
+    assert_eq!(resumed.stalled(), sim.stalled());
+    assert_eq!(resumed.stats(), sim.stats());
+    let bytes = resumed.to_checkpoint(b"");
+    assert_eq!(bytes, sim.to_checkpoint(b""));
+    let (mut again, _) = Simulation::<2>::from_checkpoint(&bytes).unwrap();
+    assert_eq!(again.stalled(), sim.stalled());
+    assert_eq!(again.run_events(10, &mut ()), 0);
+    assert_eq!(again.to_checkpoint(b""), bytes);
+}
