@@ -42,6 +42,25 @@ def bench_rate(exe, n, packing, melt, collisions, dim):
     return json.loads(out)["collisions_per_second"]
 
 
+def same_file_rates(exe, n, packing, until, directory="."):
+    """Collisions per second of Python's `run(until=...)` and of `edmd run --until` on the same
+    file (a fluid melted for 20 time units), interleaved."""
+    import os
+
+    path = os.path.join(directory, f"overhead-fluid-{n}.txt")
+    sim = edmd.gen.fluid(n=n, packing=packing, seed=1)
+    sim.run(until=20.0)
+    sim.write(path)
+    s = edmd.Simulation.from_file(path)
+    started = time.perf_counter()
+    s.run(until=until)
+    py = s.stats["disc_disc"] / (time.perf_counter() - started)
+    out = subprocess.run([exe, "run", path, "--until", str(until), "--json"], check=True,
+                         capture_output=True, text=True).stdout
+    os.remove(path)
+    return py, json.loads(out)["collisions_per_second"]
+
+
 def array_read_ms(n=1_000_000, repeats=5):
     """Milliseconds to read positions and velocities of n discs (a square lattice)."""
     side = int(np.ceil(np.sqrt(n)))
@@ -74,8 +93,11 @@ def main():
     py = [python_rate(a.n, a.packing, a.melt, a.collisions, a.dim) for _ in range(a.repeats)]
     cli = [bench_rate(a.edmd, a.n, a.packing, a.melt, a.collisions, a.dim)
            for _ in range(a.repeats)]
+    same = [same_file_rates(a.edmd, a.n, a.packing, 40.0) for _ in range(a.repeats)]
     print(json.dumps({
         "n": a.n, "packing": a.packing, "dim": a.dim,
+        "same_file_python_run_until": [p for p, _ in same],
+        "same_file_edmd_run": [c for _, c in same],
         "python_collisions_per_second": py, "edmd_bench_collisions_per_second": cli,
         "python_over_bench_best": max(py) / max(cli),
         "read_ms_n_1e6": array_read_ms(),

@@ -480,7 +480,9 @@ impl PySimulation {
     /// The names are those of `edmd run --measure`: "temperature", "pressure" (wall and
     /// virial, Z = PA/NkT with block errors), "collisions" (collision frequency, free paths
     /// and times), "speeds" (against the Maxwell-Boltzmann law), "msd", "species". Events are
-    /// watched in Rust; `results()` gives what was measured. Attaching again starts afresh.
+    /// watched in Rust; samples are taken at `start + k * every` by `run(until=...)` (not by
+    /// `run(events=...)`, which is not timed); `results()` gives what was measured. Attaching
+    /// again starts afresh; measurements are not pickled.
     ///
     /// >>> sim.measure("pressure", "speeds", every=1.0)
     /// >>> sim.run(until=sim.time + 10.0)
