@@ -130,6 +130,23 @@ def test_python_and_cli_end_in_the_same_state(tmp_path, edmd_cli):
         assert np.array_equal(cli.velocities, sim.velocities)
 
 
+def test_swap_rule_course_file_and_trajectory_match_the_cli(tmp_path, edmd_cli):
+    src = DATA / "course-7.txt"
+    out, traj = tmp_path / "cli.txt", tmp_path / "cli.xyz"
+    subprocess.run(
+        [edmd_cli, "run", str(src), "--until", "3", "--rule", "swap", "--output", str(out),
+         "--trajectory", str(traj), "--every", "0.25"],
+        check=True, capture_output=True,
+    )
+    sim = edmd.Simulation.from_file(src, rule="swap")
+    mine_traj = tmp_path / "py.xyz"
+    sim.run(until=3.0, trajectory=mine_traj, every=0.25)
+    mine = tmp_path / "py.txt"
+    sim.write(mine)
+    assert mine.read_bytes() == out.read_bytes()
+    assert mine_traj.read_bytes() == traj.read_bytes()
+
+
 def test_generators_match_edmd_gen(tmp_path, edmd_cli):
     out = tmp_path / "fluid.txt"
     subprocess.run(
