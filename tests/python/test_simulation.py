@@ -278,3 +278,14 @@ def test_bad_run_and_gen_options_raise_value_error():
         edmd.Simulation.from_checkpoint(b"EDMDCK" + b"\0" * 40)
     with pytest.raises(TypeError):
         edmd.gen.fluid(n=10, colour="red")
+
+
+def test_samples_after_run_events_do_not_pile_up():
+    sim = small_fluid()
+    sim.measure("temperature", every=0.5)
+    sim.run(events=5000)  # passes several sample times without taking samples
+    t = sim.time
+    assert t > 1.0
+    sim.run(until=t + 1.0)
+    times = sim.results()["tables"]["temperature"]["time"]
+    assert len(times) >= 2 and np.all(np.diff(times) > 0)

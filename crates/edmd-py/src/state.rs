@@ -71,7 +71,10 @@ impl<const D: usize> State<D> {
         if let Some(m) = &mut self.measuring {
             if m.next_sample() <= self.sim.time() {
                 m.measurements.sample(&self.sim);
-                m.samples += 1;
+                // After `run(events=...)` several sample times may have passed: one sample
+                // stands for them all, and the next is the first one still ahead.
+                let passed = ((self.sim.time() - m.start) / m.every).floor();
+                m.samples = (m.samples + 1).max(passed as u64);
             }
         }
     }
