@@ -83,8 +83,28 @@ pub struct GenArgs {
     pub spread: Option<f64>,
 }
 
+/// A generated system in its dimension, with the format `edmd gen` writes it in.
+#[derive(Clone, Debug)]
+pub enum Generated {
+    /// Discs, in the course or the Princeton format.
+    Two(edmd_core::System<2>, Format),
+    /// Spheres (a 3D Princeton file).
+    Three(edmd_core::System<3>),
+}
+
 /// Runs `edmd gen`.
 pub fn run(args: &GenArgs) -> Result<()> {
+    match make(args)? {
+        Generated::Two(system, format) => write_system(&system, format, args),
+        Generated::Three(system) => {
+            write_system(&system, Format::Princeton(ColumnOrder::RadiusMass), args)
+        }
+    }
+}
+
+/// Validates the options and generates the system `edmd gen` would write (`args.output` is not
+/// used). The Python package calls this too, so both make the same system from the same seed.
+pub fn make(args: &GenArgs) -> Result<Generated> {
     let Ok(mut kind) = GenKind::from_name(&args.kind) else {
         return user_error(format!(
             "gen: unknown kind '{}' (one of: {})",
@@ -93,7 +113,7 @@ pub fn run(args: &GenArgs) -> Result<()> {
         ));
     };
     if args.dim == 3 {
-        return run_3d(kind, args);
+        return make_3d(kind, args);
     }
     apply(&mut kind, args)?;
     check_cost(&kind)?;
@@ -110,12 +130,11 @@ pub fn run(args: &GenArgs) -> Result<()> {
     } else {
         Format::Princeton(ColumnOrder::RadiusMass)
     };
-    write_system(&system, format, args)?;
-    Ok(())
+    Ok(Generated::Two(system, format))
 }
 
 /// `edmd gen fluid|mixture --dim 3`: spheres, written as a 3D Princeton file.
-fn run_3d(mut kind: GenKind, args: &GenArgs) -> Result<()> {
+fn make_3d(mut kind: GenKind, args: &GenArgs) -> Result<Generated> {
     // The 2D defaults (0.6 and 0.7) are above what spheres allow: 0.45 is a dense fluid, 0.5
     // a dense mixture.
     match &mut kind {
@@ -139,8 +158,7 @@ fn run_3d(mut kind: GenKind, args: &GenArgs) -> Result<()> {
         _ => unreachable!("checked above"),
     };
     let (system, _) = made.or_else(|e| user_error(format!("gen {}: {e}", args.kind)))?;
-    write_system(&system, Format::Princeton(ColumnOrder::RadiusMass), args)?;
-    Ok(())
+    Ok(Generated::Three(system))
 }
 
 /// Writes a generated system to `args.output` (atomically) or standard output.

@@ -125,20 +125,35 @@ impl<const D: usize> Measurements<D> {
                 dir.display()
             ))
         })?;
+        let (out, tables) = self.results(sim);
         let mut files = Vec::new();
-        let mut out = serde_json::Map::new();
-        let mut csv = |name: &str, header: &[&str], rows: Vec<Vec<f64>>| -> Result<()> {
-            let p = dir.join(name);
-            write_csv(&p, header, rows)?;
+        for t in tables {
+            let p = dir.join(t.file);
+            let header: Vec<&str> = t.header.iter().map(String::as_str).collect();
+            write_csv(&p, &header, t.rows)?;
             files.push(p);
-            Ok(())
+        }
+        Ok((out, files))
+    }
+
+    /// The summaries (as JSON) and the time series and histograms, as the tables
+    /// [`Self::finish`] writes (the Python package turns them into dicts and arrays).
+    pub fn results(&self, sim: &Simulation<D>) -> (Value, Vec<Table>) {
+        let mut tables = Vec::new();
+        let mut out = serde_json::Map::new();
+        let mut csv = |name: &'static str, header: &[&str], rows: Vec<Vec<f64>>| {
+            tables.push(Table {
+                file: name,
+                header: header.iter().map(|h| h.to_string()).collect(),
+                rows,
+            });
         };
         if let Some(m) = &self.temperature {
             csv(
                 "temperature.csv",
                 &["time", "kT"],
                 m.series().iter().map(|&(t, k)| vec![t, k]).collect(),
-            )?;
+            );
             let s = m.summary();
             out.insert(
                 "temperature".into(),
@@ -155,7 +170,7 @@ impl<const D: usize> Measurements<D> {
                 "pressure.csv",
                 &["start", "end", "virial_pressure", "wall_pressure", "Z"],
                 rows,
-            )?;
+            );
             let s = m.summary();
             let est = |e: &edmd_core::measure::Estimate| json!({"value": e.value, "error": e.error, "blocks": e.blocks});
             out.insert(
@@ -172,7 +187,7 @@ impl<const D: usize> Measurements<D> {
                     .iter()
                     .map(|&(t, f)| vec![t, f])
                     .collect(),
-            )?;
+            );
             csv(
                 "free_paths.csv",
                 &["free_path", "density"],
@@ -181,7 +196,7 @@ impl<const D: usize> Measurements<D> {
                     .iter()
                     .map(|&(x, y)| vec![x, y])
                     .collect(),
-            )?;
+            );
             csv(
                 "free_times.csv",
                 &["free_time", "density"],
@@ -190,7 +205,7 @@ impl<const D: usize> Measurements<D> {
                     .iter()
                     .map(|&(x, y)| vec![x, y])
                     .collect(),
-            )?;
+            );
             let s = m.summary();
             out.insert(
                 "collisions".into(),
@@ -209,7 +224,7 @@ impl<const D: usize> Measurements<D> {
                     .iter()
                     .map(|&(v, h, r)| vec![v, h, r])
                     .collect(),
-            )?;
+            );
             let s = m.summary(kt);
             let mut j = json!({"samples": s.samples, "mean": s.mean, "rms": s.rms,
                        "ks_statistic": s.ks.statistic, "ks_p_value": s.ks.p_value});
@@ -222,7 +237,7 @@ impl<const D: usize> Measurements<D> {
                 "msd.csv",
                 &["time", "msd"],
                 m.series().iter().map(|&(t, d)| vec![t, d]).collect(),
-            )?;
+            );
             let fit = m.summary();
             out.insert("msd".into(), json!({"diffusion_coefficient": fit.map(|f| f.coefficient), "fit_from": fit.map(|f| f.from), "fit_to": fit.map(|f| f.to)}));
         }
@@ -245,15 +260,26 @@ impl<const D: usize> Measurements<D> {
                 })
                 .collect();
             let h: Vec<&str> = header.iter().map(String::as_str).collect();
-            csv("species.csv", &h, rows)?;
+            csv("species.csv", &h, rows);
             let s = m.summary();
             out.insert(
                 "species".into(),
                 json!({"samples": s.samples, "overall": s.overall, "last": s.last}),
             );
         }
-        Ok((Value::Object(out), files))
+        (Value::Object(out), tables)
     }
+}
+
+/// One table of results: the CSV file it is written to, its column names and rows.
+#[derive(Clone, Debug)]
+pub struct Table {
+    /// File name in the measurement folder.
+    pub file: &'static str,
+    /// Column names.
+    pub header: Vec<String>,
+    /// Rows of numbers.
+    pub rows: Vec<Vec<f64>>,
 }
 
 impl<const D: usize> Observer<D> for Measurements<D> {

@@ -153,7 +153,8 @@ struct Measuring<const D: usize> {
     obs: Measurements<D>,
 }
 
-fn format_name(format: Format) -> &'static str {
+/// The name a checkpoint keeps for the format of the file its run started from.
+pub fn format_name(format: Format) -> &'static str {
     match format {
         Format::Course => "course",
         Format::Princeton(ColumnOrder::RadiusMass) => "princeton",
@@ -171,16 +172,10 @@ fn resume<const D: usize>(args: &RunArgs, bytes: &[u8]) -> Result<()> {
             args.file
         ))
     };
-    let Ok(extra) = postcard::from_bytes::<CheckpointExtra<Measuring<D>>>(&extra) else {
+    let Some((format, measuring)) = read_extra::<D>(&extra) else {
         return unreadable();
     };
-    let format = match extra.format.as_str() {
-        "course" => Format::Course,
-        "princeton-mass-radius" => Format::Princeton(ColumnOrder::MassRadius),
-        "princeton" => Format::Princeton(ColumnOrder::RadiusMass),
-        _ => return unreadable(),
-    };
-    let measuring = match extra.measuring {
+    let measuring = match measuring {
         Some(m)
             if !m.obs.fits(&sim) || m.which.is_empty() || m.every.is_nan() || m.every <= 0.0 =>
         {
@@ -217,6 +212,42 @@ fn resume<const D: usize>(args: &RunArgs, bytes: &[u8]) -> Result<()> {
         ));
     }
     execute(args, sim, format, measuring)
+}
+
+/// The format and the measurements kept in a checkpoint's extra bytes; `None` when they cannot
+/// be read.
+fn read_extra<const D: usize>(extra: &[u8]) -> Option<(Format, Option<Measuring<D>>)> {
+    let extra = postcard::from_bytes::<CheckpointExtra<Measuring<D>>>(extra).ok()?;
+    let format = match extra.format.as_str() {
+        "course" => Format::Course,
+        "princeton-mass-radius" => Format::Princeton(ColumnOrder::MassRadius),
+        "princeton" => Format::Princeton(ColumnOrder::RadiusMass),
+        _ => return None,
+    };
+    Some((format, extra.measuring))
+}
+
+/// The bytes of a checkpoint of `sim`, as `edmd run --checkpoint` writes them for a run that
+/// started from a file of `format` and measures nothing (the Python package pickles with these,
+/// so that either program continues the other's checkpoints).
+pub fn checkpoint_bytes<const D: usize>(sim: &Simulation<D>, format: Format) -> Vec<u8> {
+    let extra = CheckpointExtra::<&Measuring<D>> {
+        format: format_name(format).to_string(),
+        measuring: None,
+    };
+    sim.to_checkpoint(&postcard::to_stdvec(&extra).expect("a string and a flag encode"))
+}
+
+/// A simulation and the format of its run's file from checkpoint bytes (as written by
+/// [`checkpoint_bytes`] or `edmd run --checkpoint`; measurements under way are dropped), or
+/// the reason it cannot be read.
+pub fn from_checkpoint_bytes<const D: usize>(
+    bytes: &[u8],
+) -> Result<(Simulation<D>, Format), String> {
+    let (sim, extra) = Simulation::<D>::from_checkpoint(bytes).map_err(|e| e.to_string())?;
+    let (format, _) = read_extra::<D>(&extra)
+        .ok_or("checkpoint: the run's settings or measurements are missing or unreadable")?;
+    Ok((sim, format))
 }
 
 /// The names of measurements, as `--measure` takes them.

@@ -1,0 +1,143 @@
+//! A simulation in one dimension with what the Python object keeps beside it: the format it
+//! was read in, the attached measurements, and the chunked run that lets Python look for Ctrl-C.
+
+use std::time::Instant;
+
+use edmd_cli::commands::measurements::{Measure, Measurements, Table};
+use edmd_core::{Observer, Simulation};
+use edmd_io::Format;
+
+/// Wall-clock time one chunk of a run aims at: Ctrl-C is noticed within about this long.
+const CHUNK_SECONDS: f64 = 0.05;
+
+/// Events processed one at a time at the start of a run, to learn how much simulated time a
+/// chunk should span.
+const PROBE_EVENTS: u32 = 1000;
+
+/// Events per chunk of `run(events=N)`.
+pub const EVENT_CHUNK: u64 = 1 << 18;
+
+/// Measurements attached from Python, sampled every `every` of simulated time from `start`.
+pub struct Measuring<const D: usize> {
+    pub measurements: Measurements<D>,
+    pub every: f64,
+    pub start: f64,
+    pub samples: u64,
+}
+
+impl<const D: usize> Measuring<D> {
+    /// Time of the next sample.
+    pub fn next_sample(&self) -> f64 {
+        self.start + (self.samples + 1) as f64 * self.every
+    }
+}
+
+/// A simulation of dimension `D` and what the Python object keeps with it.
+pub struct State<const D: usize> {
+    pub sim: Simulation<D>,
+    /// The format `write` uses when neither a format nor a known extension is given.
+    pub format: Format,
+    pub measuring: Option<Measuring<D>>,
+}
+
+impl<const D: usize> State<D> {
+    pub fn new(sim: Simulation<D>, format: Format) -> Self {
+        State {
+            sim,
+            format,
+            measuring: None,
+        }
+    }
+
+    /// Attaches `which`, sampled every `every` from now.
+    pub fn measure(&mut self, which: &[Measure], every: f64) {
+        self.measuring = Some(Measuring {
+            measurements: Measurements::new(&self.sim, which),
+            every,
+            start: self.sim.time(),
+            samples: 0,
+        });
+    }
+
+    /// The summaries and tables of the attached measurements.
+    pub fn results(&self) -> Option<(serde_json::Value, Vec<Table>)> {
+        self.measuring
+            .as_ref()
+            .map(|m| m.measurements.results(&self.sim))
+    }
+
+    /// Takes a sample if one is due at the current time.
+    pub fn sample_if_due(&mut self) {
+        if let Some(m) = &mut self.measuring {
+            if m.next_sample() <= self.sim.time() {
+                m.measurements.sample(&self.sim);
+                // After `run(events=...)` several sample times may have passed: one sample
+                // stands for them all, and the next is the first one still ahead.
+                let passed = ((self.sim.time() - m.start) / m.every).floor();
+                m.samples = (m.samples + 1).max(passed as u64);
+            }
+        }
+    }
+
+    /// `run_until(t)` with the attached measurements watching.
+    fn run_until(&mut self, t: f64) {
+        match &mut self.measuring {
+            Some(m) => self.sim.run_until(t, &mut m.measurements),
+            None => self.sim.run_until(t, &mut ()),
+        }
+    }
+
+    /// One chunk of a run to `t_end`: about [`CHUNK_SECONDS`] of work. `span` is the simulated
+    /// time the next chunk covers (0 at first: the chunk then learns it from a few events) and
+    /// is adjusted from the wall-clock time this one took. Returns true once the simulation is
+    /// at `t_end`. Where a run stops does not change its trajectory (positions are computed on
+    /// demand), so the chunks give the same result as one `run_until(t_end)`.
+    pub fn chunk_until(&mut self, t_end: f64, span: &mut f64) -> bool {
+        let t0 = self.sim.time();
+        if t0 >= t_end {
+            self.run_until(t_end);
+            return true;
+        }
+        let started = Instant::now();
+        if *span <= 0.0 {
+            for _ in 0..PROBE_EVENTS {
+                match self.sim.step(t_end) {
+                    Some(e) => {
+                        if let Some(m) = &mut self.measuring {
+                            m.measurements.on_event(&e, &self.sim);
+                        }
+                    }
+                    None => {
+                        self.run_until(t_end);
+                        return true;
+                    }
+                }
+            }
+            let covered = self.sim.time() - t0;
+            let seconds = started.elapsed().as_secs_f64().max(1e-6);
+            *span = if covered > 0.0 {
+                covered * (CHUNK_SECONDS / seconds).min(100.0)
+            } else {
+                (t_end - t0) * 1e-6
+            };
+            return false;
+        }
+        let t1 = (t0 + *span).min(t_end);
+        self.run_until(t1);
+        let seconds = started.elapsed().as_secs_f64();
+        *span *= if seconds > 0.0 {
+            (CHUNK_SECONDS / seconds).clamp(0.25, 4.0)
+        } else {
+            4.0
+        };
+        t1 >= t_end
+    }
+
+    /// Up to `n` events with the measurements watching; returns how many were processed.
+    pub fn run_events(&mut self, n: u64) -> u64 {
+        match &mut self.measuring {
+            Some(m) => self.sim.run_events(n, &mut m.measurements),
+            None => self.sim.run_events(n, &mut ()),
+        }
+    }
+}

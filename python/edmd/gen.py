@@ -1,0 +1,111 @@
+"""Ready-made systems: the generators of ``edmd gen``, returning a :class:`edmd.Simulation`.
+
+Each function takes the options ``edmd gen KIND`` takes for that kind (as keyword arguments,
+``None`` for the kind's documented default) and a ``seed``; the same seed gives the same
+system as ``edmd gen KIND --seed S``, bit for bit. Bad values raise ``ValueError`` with the
+command's message. ``rule`` ("elastic" or "swap") and ``multi`` are the run options of the
+simulation returned.
+
+Example::
+
+    import edmd
+    sim = edmd.gen.fluid(n=500, packing=0.4, dim=3, seed=2)   # a melted hard-sphere fluid
+    sim = edmd.gen.mixture(n=400, size_ratio=1.4, fraction_large=0.5, seed=3)
+"""
+
+from edmd._edmd import _generate
+
+__all__ = [
+    "single",
+    "head_on",
+    "angled",
+    "one_red",
+    "lattice",
+    "diffusion1",
+    "diffusion2",
+    "dense",
+    "brownian",
+    "fluid",
+    "mixture",
+]
+
+
+def single(*, radius=None, speed=None, mass=None, seed=1, rule="elastic"):
+    """One disc bouncing in the unit box with walls (``edmd gen single``)."""
+    return _generate("single", seed=seed, radius=radius, speed=speed, mass=mass, rule=rule)
+
+
+def head_on(*, radius=None, speed=None, mass=None, seed=1, rule="elastic"):
+    """Two discs meeting head-on (``edmd gen head-on``)."""
+    return _generate("head-on", seed=seed, radius=radius, speed=speed, mass=mass, rule=rule)
+
+
+def angled(*, radius=None, speed=None, mass=None, angle=None, impact=None, seed=1, rule="elastic"):
+    """Two discs whose paths cross at ``angle`` degrees with impact parameter ``impact`` (a
+    fraction of the contact distance) (``edmd gen angled``)."""
+    return _generate(
+        "angled", seed=seed, radius=radius, speed=speed, mass=mass, angle=angle,
+        impact=impact, rule=rule,
+    )
+
+
+def one_red(*, n=None, radius=None, speed=None, seed=1, rule="elastic"):
+    """A crowd of ``n`` discs and one red one (``edmd gen one-red``)."""
+    return _generate("one-red", seed=seed, n=n, radius=radius, speed=speed, rule=rule)
+
+
+def lattice(*, n=None, radius=None, mass=None, kt=None, seed=1, rule="elastic"):
+    """``n`` discs on a lattice with thermal velocities at temperature ``kt``
+    (``edmd gen lattice``)."""
+    return _generate("lattice", seed=seed, n=n, radius=radius, mass=mass, kt=kt, rule=rule)
+
+
+def diffusion1(*, n=None, radius=None, speed=None, region=None, seed=1, rule="elastic"):
+    """``n`` discs starting in a central square of side ``region`` (``edmd gen diffusion1``)."""
+    return _generate(
+        "diffusion1", seed=seed, n=n, radius=radius, speed=speed, region=region, rule=rule
+    )
+
+
+def diffusion2(*, n=None, radius=None, mass=None, kt=None, seed=1, rule="elastic"):
+    """Two species, ``n`` discs each, starting on either side of the box
+    (``edmd gen diffusion2``)."""
+    return _generate("diffusion2", seed=seed, n=n, radius=radius, mass=mass, kt=kt, rule=rule)
+
+
+def dense(*, n=None, packing=None, mass=None, kt=None, seed=1, rule="elastic"):
+    """A dense system of ``n`` discs at packing fraction ``packing`` (``edmd gen dense``)."""
+    return _generate("dense", seed=seed, n=n, packing=packing, mass=mass, kt=kt, rule=rule)
+
+
+def brownian(*, n=None, radius=None, mass=None, big_radius=None, big_mass=None, kt=None,
+             seed=1, rule="elastic"):
+    """A big disc among ``n`` small ones (``edmd gen brownian``)."""
+    return _generate(
+        "brownian", seed=seed, n=n, radius=radius, mass=mass, big_radius=big_radius,
+        big_mass=big_mass, kt=kt, rule=rule,
+    )
+
+
+def fluid(*, n=None, packing=None, dim=2, boundary=None, seed=1, rule="elastic", multi=False):
+    """A melted fluid of ``n`` equal discs (``dim=2``) or spheres (``dim=3``) at packing
+    fraction ``packing``, with "periodic" (default) or "walls" ``boundary``
+    (``edmd gen fluid``).
+
+    >>> sim = edmd.gen.fluid(n=1000, packing=0.5, seed=1)
+    """
+    return _generate(
+        "fluid", dim=dim, seed=seed, n=n, packing=packing, boundary=boundary, rule=rule,
+        multi=multi,
+    )
+
+
+def mixture(*, n=None, packing=None, dim=2, boundary=None, size_ratio=None,
+            fraction_large=None, spread=None, seed=1, rule="elastic", multi=False):
+    """A melted mixture: binary (``size_ratio`` large/small diameters, ``fraction_large`` by
+    number) or polydisperse (diameters uniform in 1 +- ``spread``) (``edmd gen mixture``)."""
+    return _generate(
+        "mixture", dim=dim, seed=seed, n=n, packing=packing, boundary=boundary,
+        size_ratio=size_ratio, fraction_large=fraction_large, spread=spread, rule=rule,
+        multi=multi,
+    )

@@ -1,0 +1,31 @@
+"""Shared fixtures: the repository's example data and the `edmd` binary."""
+
+import os
+import pathlib
+import shutil
+
+import pytest
+
+ROOT = pathlib.Path(__file__).resolve().parents[2]
+DATA = ROOT / "examples" / "data"
+
+
+def edmd_binary():
+    """The `edmd` program: $EDMD_BIN, else the workspace's release or debug build, else PATH."""
+    candidates = [os.environ.get("EDMD_BIN")]
+    candidates += [str(ROOT / "target" / p / "edmd") for p in ("release", "debug")]
+    candidates.append(shutil.which("edmd"))
+    for c in candidates:
+        if c and os.access(c, os.X_OK):
+            return c
+    return None
+
+
+@pytest.fixture
+def edmd_cli():
+    exe = edmd_binary()
+    if exe is None:
+        if os.environ.get("EDMD_REQUIRE_CLI"):
+            pytest.fail("the edmd binary is needed (cargo build --bin edmd) and was not found")
+        pytest.skip("no edmd binary (cargo build --bin edmd, or set EDMD_BIN)")
+    return exe
