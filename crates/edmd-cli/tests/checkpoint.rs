@@ -1,22 +1,7 @@
 //! `edmd run --checkpoint`: a run stopped and continued from its checkpoint ends bit for bit
 //! where the uninterrupted run ends, and damaged checkpoints are refused in one line.
 
-use serde_json::Value;
-
-use crate::support::{example, ok_stdout, run};
-
-fn summary(out: &std::process::Output) -> Value {
-    serde_json::from_str(ok_stdout(out).trim()).expect("one JSON object")
-}
-
-fn refused(out: &std::process::Output, words: &[&str]) {
-    let err = String::from_utf8_lossy(&out.stderr);
-    assert_eq!(out.status.code(), Some(2), "{err}");
-    assert_eq!(err.trim().lines().count(), 1, "{err}");
-    for w in words {
-        assert!(err.contains(w), "{err:?} lacks {w:?}");
-    }
-}
+use crate::support::{example, ok_stdout, refused, run, summary};
 
 /// Runs `file` to `t2` directly, and to `t1` with checkpoints then on to `t2` from the
 /// checkpoint (twice, the second time replacing the checkpoint in place), and compares.

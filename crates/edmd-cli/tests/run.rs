@@ -1,12 +1,6 @@
 //! `edmd run` on real files: all 25 Princeton data files, the course format, chaining, stdin.
 
-use serde_json::Value;
-
-use crate::support::{example, ok_stdout, run, shared, write};
-
-fn summary(out: &std::process::Output) -> Value {
-    serde_json::from_str(ok_stdout(out).trim()).expect("one JSON object")
-}
+use crate::support::{example, ok_stdout, run, shared, summary, write};
 
 #[test]
 fn all_princeton_data_files_load_and_run() {

@@ -74,3 +74,18 @@ pub fn skipped(test: &str, why: &str) {
     use std::io::Write;
     let _ = writeln!(std::io::stderr(), "SKIPPED {test}: {why}");
 }
+
+/// The one JSON object a successful `--json` run prints.
+pub fn summary(out: &Output) -> serde_json::Value {
+    serde_json::from_str(ok_stdout(out).trim()).expect("one JSON object")
+}
+
+/// Exit status 2 and one line on standard error containing every word of `words`.
+pub fn refused(out: &Output, words: &[&str]) {
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{err}");
+    assert_eq!(err.trim().lines().count(), 1, "{err}");
+    for w in words {
+        assert!(err.contains(w), "{err:?} lacks {w:?}");
+    }
+}

@@ -1,23 +1,7 @@
 //! Spheres from the command line: `gen --dim 3`, `run` on 3D files (chained, with a
 //! trajectory that ASE reads), and clear refusals of malformed 3D input.
 
-use serde_json::Value;
-
-use crate::support::{example, ok_stdout, run, write};
-
-fn summary(out: &std::process::Output) -> Value {
-    serde_json::from_str(ok_stdout(out).trim()).expect("one JSON object")
-}
-
-/// Exit status 2 and one line on standard error containing every word of `words`.
-fn refused(out: &std::process::Output, words: &[&str]) {
-    let err = String::from_utf8_lossy(&out.stderr);
-    assert_eq!(out.status.code(), Some(2), "{err}");
-    assert_eq!(err.trim().lines().count(), 1, "{err}");
-    for w in words {
-        assert!(err.contains(w), "{err:?} lacks {w:?}");
-    }
-}
+use crate::support::{example, ok_stdout, refused, run, summary, write};
 
 #[test]
 fn generated_sphere_fluid_runs_and_chains() {

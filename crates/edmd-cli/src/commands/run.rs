@@ -433,26 +433,22 @@ fn execute<const D: usize>(
         t.commit()?;
     }
     let to_stdout = args.output.as_deref() == Some("-");
-    if let Some(mut f) = out_file.take() {
+    let write_state = |mut w: &mut dyn Write| {
         edmd_io::write(
-            f.writer(),
+            &mut w,
             &discs,
             sim.sim_box(),
             sim.barriers(),
             format,
             sim.time(),
-        )?;
+        )
+    };
+    if let Some(mut f) = out_file.take() {
+        write_state(f.writer())?;
         f.commit()?;
     } else if to_stdout {
         let mut out = std::io::stdout().lock();
-        edmd_io::write(
-            &mut out,
-            &discs,
-            sim.sim_box(),
-            sim.barriers(),
-            format,
-            sim.time(),
-        )?;
+        write_state(&mut out)?;
         out.flush()?;
     }
     let (measured, files) = if m.which.is_empty() {
