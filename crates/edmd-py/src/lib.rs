@@ -116,14 +116,12 @@ fn boundary_name(b: Boundary) -> &'static str {
 /// Checkpoint bytes with the format in the extra bytes, as `edmd run --checkpoint` writes them
 /// (so `edmd run` continues a checkpoint written from Python, and the other way round).
 fn checkpoint_bytes<const D: usize>(s: &State<D>) -> Vec<u8> {
-    edmd_cli::commands::run::checkpoint_bytes(&s.sim, s.format)
+    s.checkpoint()
 }
 
 fn from_checkpoint(bytes: &[u8], what: &str) -> PyResult<Inner> {
     fn load<const D: usize>(bytes: &[u8], what: &str) -> PyResult<State<D>> {
-        let (sim, format) = edmd_cli::commands::run::from_checkpoint_bytes::<D>(bytes)
-            .map_err(|e| value_error(format!("{what}: {e}")))?;
-        Ok(State::new(sim, format))
+        State::from_checkpoint(bytes).map_err(|e| value_error(format!("{what}: {e}")))
     }
     match edmd_core::checkpoint_dim(bytes) {
         Ok(3) => Ok(Inner::Three(load::<3>(bytes, what)?)),
@@ -495,7 +493,7 @@ impl PySimulation {
     /// and times), "speeds" (against the Maxwell-Boltzmann law), "msd", "species". Events are
     /// watched in Rust; samples are taken at `start + k * every` by `run(until=...)` (not by
     /// `run(events=...)`, which is not timed); `results()` gives what was measured. Attaching
-    /// again starts afresh; measurements are not pickled.
+    /// again starts afresh. Pickles and checkpoints keep the measurements under way.
     ///
     /// >>> sim.measure("pressure", "speeds", every=1.0)
     /// >>> sim.run(until=sim.time + 10.0)
@@ -632,7 +630,7 @@ impl PySimulation {
         })
     }
 
-    /// Pickling keeps the exact state (measurements are not kept).
+    /// Pickling keeps the exact state, measurements under way included.
     fn __reduce__<'py>(
         slf: &Bound<'py, Self>,
     ) -> PyResult<(Bound<'py, PyAny>, (Bound<'py, PyBytes>,))> {
@@ -775,6 +773,15 @@ fn read_checkpoint(path: &Path) -> Option<Vec<u8>> {
     Some(bytes)
 }
 
+/// A `ValueError` naming the discs when the run's clock stopped advancing (the engine then
+/// stays at that time: a box filled with touching discs, say).
+fn stalled(slf: &Bound<'_, PySimulation>) -> PyResult<()> {
+    match each!(&slf.borrow().inner, s => s.stalled()) {
+        Some(why) => Err(value_error(why)),
+        None => Ok(()),
+    }
+}
+
 /// Runs to `t` in chunks with the GIL released, checking for Ctrl-C between them.
 fn advance(slf: &Bound<'_, PySimulation>, t: f64, span: &mut f64) -> PyResult<()> {
     let py = slf.py();
@@ -784,6 +791,7 @@ fn advance(slf: &Bound<'_, PySimulation>, t: f64, span: &mut f64) -> PyResult<()
             let inner = &mut guard.inner;
             py.detach(|| each!(inner, s => s.chunk_until(t, span)))
         };
+        stalled(slf)?;
         py.check_signals()?;
         if done {
             return Ok(());
@@ -802,6 +810,7 @@ fn run_events(slf: &Bound<'_, PySimulation>, n: u64) -> PyResult<()> {
             let inner = &mut guard.inner;
             py.detach(|| each!(inner, s => s.run_events(k)))
         };
+        stalled(slf)?;
         py.check_signals()?;
         if got < k {
             break;

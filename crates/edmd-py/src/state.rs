@@ -3,7 +3,8 @@
 
 use std::time::Instant;
 
-use edmd_cli::commands::measurements::{Measure, Measurements, Table};
+use edmd_cli::commands::measurements::{Measure, Table};
+pub use edmd_cli::commands::run::Measuring;
 use edmd_core::{Observer, Simulation};
 use edmd_io::Format;
 
@@ -16,21 +17,6 @@ const PROBE_EVENTS: u32 = 1000;
 
 /// Events per chunk of `run(events=N)`.
 pub const EVENT_CHUNK: u64 = 1 << 18;
-
-/// Measurements attached from Python, sampled every `every` of simulated time from `start`.
-pub struct Measuring<const D: usize> {
-    pub measurements: Measurements<D>,
-    pub every: f64,
-    pub start: f64,
-    pub samples: u64,
-}
-
-impl<const D: usize> Measuring<D> {
-    /// Time of the next sample.
-    pub fn next_sample(&self) -> f64 {
-        self.start + (self.samples + 1) as f64 * self.every
-    }
-}
 
 /// A simulation of dimension `D` and what the Python object keeps with it.
 pub struct State<const D: usize> {
@@ -49,28 +35,43 @@ impl<const D: usize> State<D> {
         }
     }
 
+    /// The state's checkpoint bytes, measurements included: `edmd run` continues them, and
+    /// pickles are made of them.
+    pub fn checkpoint(&self) -> Vec<u8> {
+        edmd_cli::commands::run::checkpoint_bytes(&self.sim, self.format, self.measuring.as_ref())
+            .expect("the run's settings encode")
+    }
+
+    /// A state from checkpoint bytes (measurements included).
+    pub fn from_checkpoint(bytes: &[u8]) -> Result<Self, String> {
+        let (sim, format, measuring) = edmd_cli::commands::run::from_checkpoint_bytes::<D>(bytes)?;
+        Ok(State {
+            sim,
+            format,
+            measuring,
+        })
+    }
+
+    /// The stall the engine stopped at, as a message (the run's clock stopped advancing).
+    pub fn stalled(&self) -> Option<String> {
+        self.sim.stalled().map(|s| s.to_string())
+    }
+
     /// Attaches `which`, sampled every `every` from now.
     pub fn measure(&mut self, which: &[Measure], every: f64) {
-        self.measuring = Some(Measuring {
-            measurements: Measurements::new(&self.sim, which),
-            every,
-            start: self.sim.time(),
-            samples: 0,
-        });
+        self.measuring = Some(Measuring::new(&self.sim, which, every));
     }
 
     /// The summaries and tables of the attached measurements.
     pub fn results(&self) -> Option<(serde_json::Value, Vec<Table>)> {
-        self.measuring
-            .as_ref()
-            .map(|m| m.measurements.results(&self.sim))
+        self.measuring.as_ref().map(|m| m.obs.results(&self.sim))
     }
 
     /// Takes a sample if one is due at the current time.
     pub fn sample_if_due(&mut self) {
         if let Some(m) = &mut self.measuring {
             if m.next_sample() <= self.sim.time() {
-                m.measurements.sample(&self.sim);
+                m.obs.sample(&self.sim);
                 // After `run(events=...)` several sample times may have passed: one sample
                 // stands for them all, and the next is the first one still ahead.
                 let passed = ((self.sim.time() - m.start) / m.every).floor();
@@ -82,7 +83,7 @@ impl<const D: usize> State<D> {
     /// `run_until(t)` with the attached measurements watching.
     fn run_until(&mut self, t: f64) {
         match &mut self.measuring {
-            Some(m) => self.sim.run_until(t, &mut m.measurements),
+            Some(m) => self.sim.run_until(t, &mut m.obs),
             None => self.sim.run_until(t, &mut ()),
         }
     }
@@ -104,7 +105,7 @@ impl<const D: usize> State<D> {
                 match self.sim.step(t_end) {
                     Some(e) => {
                         if let Some(m) = &mut self.measuring {
-                            m.measurements.on_event(&e, &self.sim);
+                            m.obs.on_event(&e, &self.sim);
                         }
                     }
                     None => {
@@ -136,7 +137,7 @@ impl<const D: usize> State<D> {
     /// Up to `n` events with the measurements watching; returns how many were processed.
     pub fn run_events(&mut self, n: u64) -> u64 {
         match &mut self.measuring {
-            Some(m) => self.sim.run_events(n, &mut m.measurements),
+            Some(m) => self.sim.run_events(n, &mut m.obs),
             None => self.sim.run_events(n, &mut ()),
         }
     }

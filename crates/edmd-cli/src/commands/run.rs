@@ -142,15 +142,47 @@ struct CheckpointExtra<M> {
     measuring: Option<M>,
 }
 
-/// Measurements under way and their sampling schedule: samples at `start + k * every`.
+/// Measurements under way and their sampling schedule: samples at `start + k * every`. Kept
+/// in checkpoints (by `edmd run` and by the Python package's pickles).
 #[derive(Serialize, Deserialize)]
 #[serde(bound = "")]
-struct Measuring<const D: usize> {
-    which: Vec<Measure>,
-    every: f64,
-    start: f64,
-    samples: u64,
-    obs: Measurements<D>,
+pub struct Measuring<const D: usize> {
+    /// What is measured (sorted, each once).
+    pub which: Vec<Measure>,
+    /// Simulated time between samples.
+    pub every: f64,
+    /// When the measurements started.
+    pub start: f64,
+    /// Samples taken.
+    pub samples: u64,
+    /// The observers.
+    pub obs: Measurements<D>,
+}
+
+impl<const D: usize> Measuring<D> {
+    /// Starts measuring `which` on `sim` now, a sample every `every`.
+    pub fn new(sim: &Simulation<D>, which: &[Measure], every: f64) -> Self {
+        let mut which = which.to_vec();
+        which.sort();
+        which.dedup();
+        Measuring {
+            obs: Measurements::new(sim, &which),
+            which,
+            every,
+            start: sim.time(),
+            samples: 0,
+        }
+    }
+
+    /// Time of the next sample.
+    pub fn next_sample(&self) -> f64 {
+        self.start + (self.samples + 1) as f64 * self.every
+    }
+
+    /// Whether measurements read back from a checkpoint can go on with `sim`.
+    fn fits(&self, sim: &Simulation<D>) -> bool {
+        self.obs.fits(sim) && !self.which.is_empty() && self.every > 0.0
+    }
 }
 
 /// The name a checkpoint keeps for the format of the file its run started from.
@@ -176,11 +208,7 @@ fn resume<const D: usize>(args: &RunArgs, bytes: &[u8]) -> Result<()> {
         return unreadable();
     };
     let measuring = match measuring {
-        Some(m)
-            if !m.obs.fits(&sim) || m.which.is_empty() || m.every.is_nan() || m.every <= 0.0 =>
-        {
-            return unreadable()
-        }
+        Some(m) if !m.fits(&sim) => return unreadable(),
         Some(m) => {
             let mut asked = args.measure.clone();
             asked.sort();
@@ -228,26 +256,34 @@ fn read_extra<const D: usize>(extra: &[u8]) -> Option<(Format, Option<Measuring<
 }
 
 /// The bytes of a checkpoint of `sim`, as `edmd run --checkpoint` writes them for a run that
-/// started from a file of `format` and measures nothing (the Python package pickles with these,
-/// so that either program continues the other's checkpoints).
-pub fn checkpoint_bytes<const D: usize>(sim: &Simulation<D>, format: Format) -> Vec<u8> {
-    let extra = CheckpointExtra::<&Measuring<D>> {
+/// started from a file of `format` with the measurements `measuring` under way (the Python
+/// package pickles with these, so that either program continues the other's checkpoints).
+pub fn checkpoint_bytes<const D: usize>(
+    sim: &Simulation<D>,
+    format: Format,
+    measuring: Option<&Measuring<D>>,
+) -> Result<Vec<u8>> {
+    let extra = CheckpointExtra {
         format: format_name(format).to_string(),
-        measuring: None,
+        measuring: measuring.filter(|m| !m.which.is_empty()),
     };
-    sim.to_checkpoint(&postcard::to_stdvec(&extra).expect("a string and a flag encode"))
+    Ok(sim.to_checkpoint(&postcard::to_stdvec(&extra)?))
 }
 
-/// A simulation and the format of its run's file from checkpoint bytes (as written by
-/// [`checkpoint_bytes`] or `edmd run --checkpoint`; measurements under way are dropped), or
-/// the reason it cannot be read.
+/// A simulation, the format of its run's file and the measurements under way, from checkpoint
+/// bytes (as written by [`checkpoint_bytes`] or `edmd run --checkpoint`), or the reason they
+/// cannot be read.
+#[allow(clippy::type_complexity)]
 pub fn from_checkpoint_bytes<const D: usize>(
     bytes: &[u8],
-) -> Result<(Simulation<D>, Format), String> {
+) -> Result<(Simulation<D>, Format, Option<Measuring<D>>), String> {
     let (sim, extra) = Simulation::<D>::from_checkpoint(bytes).map_err(|e| e.to_string())?;
-    let (format, _) = read_extra::<D>(&extra)
-        .ok_or("checkpoint: the run's settings or measurements are missing or unreadable")?;
-    Ok((sim, format))
+    let unreadable = "checkpoint: the run's settings or measurements are missing or unreadable";
+    let (format, measuring) = read_extra::<D>(&extra).ok_or(unreadable)?;
+    if measuring.as_ref().is_some_and(|m| !m.fits(&sim)) {
+        return Err(unreadable.into());
+    }
+    Ok((sim, format, measuring))
 }
 
 /// The names of measurements, as `--measure` takes them.
@@ -315,18 +351,10 @@ fn execute<const D: usize>(
     let started = Instant::now();
     let mut frames = 0u64;
     let mut m = measuring.unwrap_or_else(|| {
-        let mut which = args.measure.clone();
-        which.sort();
-        which.dedup();
-        Measuring {
-            obs: Measurements::new(&sim, &which),
-            which,
-            every: args
-                .sample_every
-                .unwrap_or((args.until - start_time) / 100.0),
-            start: start_time,
-            samples: 0,
-        }
+        let every = args
+            .sample_every
+            .unwrap_or((args.until - start_time) / 100.0);
+        Measuring::new(&sim, &args.measure, every)
     });
     if m.which.is_empty() && (args.sample_every.is_some() || args.measure_dir.is_some()) {
         return user_error("--sample-every and --out-dir go with --measure");
@@ -352,15 +380,9 @@ fn execute<const D: usize>(
         .map(|dt| first(dt, true))
         .unwrap_or(0.0);
     let mut next_ck = args.checkpoint_every.map(|dt| ck_k * dt);
-    let extra = |m: &Measuring<D>| {
-        postcard::to_stdvec(&CheckpointExtra {
-            format: format_name(format).to_string(),
-            measuring: (!m.which.is_empty()).then_some(m),
-        })
-    };
     loop {
         let next_sample = sample_dt
-            .map(|d| m.start + (m.samples + 1) as f64 * d)
+            .map(|_| m.next_sample())
             .filter(|t| *t <= args.until);
         let next = [next_frame, next_sample, next_ck]
             .into_iter()
@@ -383,7 +405,7 @@ fn execute<const D: usize>(
         }
         if next_ck == Some(next) {
             if let Some(p) = &args.checkpoint {
-                write_checkpoint(p, &sim, &extra(&m)?)?;
+                write_checkpoint(p, &checkpoint_bytes(&sim, format, Some(&m))?)?;
             }
             ck_k += 1.0;
             next_ck = args.checkpoint_every.map(|dt| ck_k * dt);
@@ -391,7 +413,7 @@ fn execute<const D: usize>(
     }
     run_to(&mut sim, args.until, &progress, &mut m.obs, &args.file)?;
     if let Some(p) = &args.checkpoint {
-        write_checkpoint(p, &sim, &extra(&m)?)?;
+        write_checkpoint(p, &checkpoint_bytes(&sim, format, Some(&m))?)?;
     }
     let seconds = started.elapsed().as_secs_f64();
     if let Some(pb) = progress {
@@ -486,9 +508,9 @@ fn execute<const D: usize>(
 
 /// Writes a checkpoint of `sim` to `path`, replacing the previous one atomically (a kill at any
 /// moment leaves the old one whole).
-fn write_checkpoint<const D: usize>(path: &Path, sim: &Simulation<D>, extra: &[u8]) -> Result<()> {
+fn write_checkpoint(path: &Path, bytes: &[u8]) -> Result<()> {
     let mut f = AtomicFile::create(path)?;
-    f.writer().write_all(&sim.to_checkpoint(extra))?;
+    f.writer().write_all(bytes)?;
     f.commit()?;
     Ok(())
 }
