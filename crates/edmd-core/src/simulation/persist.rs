@@ -153,6 +153,14 @@ impl<'a> Reader<'a> {
         let n = self.len(1)?;
         self.take(n)
     }
+    /// A yes/no byte, 0 or 1 as written: anything else would not round-trip.
+    fn flag(&mut self, what: &str) -> Result<bool, Error> {
+        match self.u8()? {
+            0 => Ok(false),
+            1 => Ok(true),
+            x => bad(format!("{what} flag {x} (0 or 1 expected)")),
+        }
+    }
 }
 
 fn bad<T>(what: impl Into<String>) -> Result<T, Error> {
@@ -378,10 +386,10 @@ impl<const D: usize> Simulation<D> {
         for _ in 0..nb {
             let axis = r.u8()? as usize;
             let mut b = Barrier::solid(axis, r.f64()?);
-            if r.u8()? == 1 {
+            if r.flag("barrier door")? {
                 b.door = Some((r.f64()?, r.f64()?));
             }
-            if r.u8()? == 1 {
+            if r.flag("barrier demon")? {
                 b.demon = Some(Demon {
                     fast: r.f64()?,
                     slow: r.f64()?,
