@@ -1,7 +1,7 @@
 //! Regressions found by the fuzz targets (`fuzz/`, RELIABILITY.md), one test per defect, named
 //! after what broke.
 
-use edmd_core::{Barrier, Error, Options, SimBox, Simulation};
+use edmd_core::{Barrier, Disc, Error, Options, SimBox, Simulation, Vector};
 
 /// The checkpoint frame (magic, version, dimension, payload length) before the payload.
 const HEADER: usize = 24;
@@ -45,5 +45,39 @@ fn checkpoint_barrier_flags_other_than_0_or_1_are_refused() {
                 other => panic!("{what} flag {value}: {other:?}"),
             }
         }
+    }
+}
+
+/// Found by fuzzing (`read_checkpoint`): the reader checked each disc's event time against the
+/// time of the last event but not against the observation time, which `run_until` moves past
+/// it. A checkpoint with an event between the two was accepted, and running it turned the
+/// clock back. Event times before the observation time are now refused.
+#[test]
+fn checkpoint_with_an_event_before_its_clock_is_refused() {
+    let disc = Disc::new(Vector::new([1.0, 1.0]), Vector::new([1.0, 0.5]), 0.5);
+    let mut sim =
+        Simulation::new(&[disc], SimBox::walls([10.0, 10.0]), Options::default()).unwrap();
+    sim.run_until(0.5, &mut ());
+    assert_eq!(sim.stats().wall + sim.stats().cell_crossing, 0);
+    let good = sim.to_checkpoint(b"");
+    // Payload: box (2 x 9), rule, multi flag, the last event's time (at 20) and the observation
+    // time (at 28), five counters, adjusted, mean m v^2, no barriers, one disc: position,
+    // velocity, clock, radius, counter, then its event (a wall or cell code, axis, side) and
+    // that event's time.
+    let f64_at = |b: &[u8], at: usize| {
+        f64::from_le_bytes(b[HEADER + at..HEADER + at + 8].try_into().unwrap())
+    };
+    assert_eq!((f64_at(&good, 20), f64_at(&good, 28)), (0.0, 0.5));
+    let code = 100 + 8 + 16 + 16 + 8 + 8 + 4;
+    assert!(matches!(good[HEADER + code], 2 | 3));
+    let time_at = code + 3;
+    assert!(f64_at(&good, time_at) > 0.5);
+    let mut early = good.clone();
+    for (k, b) in 0.25f64.to_le_bytes().iter().enumerate() {
+        early = patched(&early, time_at + k, *b);
+    }
+    match Simulation::<2>::from_checkpoint(&early) {
+        Err(Error::Checkpoint(m)) => assert!(m.contains("before the clock"), "{m}"),
+        other => panic!("{other:?}"),
     }
 }

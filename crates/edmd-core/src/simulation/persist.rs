@@ -465,11 +465,11 @@ impl<const D: usize> Simulation<D> {
                     "disc {i}: a position, velocity, clock or radius that is not a finite number"
                 ));
             }
+            // Every event at or before the observation time has been handled (`run_until`),
+            // so a pending one before it would turn the clock back.
             let t = r.f64()?;
-            if t.is_nan() || t < event_time {
-                return bad(format!(
-                    "disc {i}: event time {t} before the clock {event_time}"
-                ));
+            if t.is_nan() || t < now {
+                return bad(format!("disc {i}: event time {t} before the clock {now}"));
             }
             times.push(t);
             let m = r.f64()?;
