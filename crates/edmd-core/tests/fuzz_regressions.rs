@@ -81,3 +81,25 @@ fn checkpoint_with_an_event_before_its_clock_is_refused() {
         other => panic!("{other:?}"),
     }
 }
+
+/// Found by fuzzing (`read_checkpoint`): a disc with no event ahead but a finite event time
+/// was accepted, and the event loop then reached its `unreachable!` ("finite time with nothing
+/// pending"): a panic. Such a checkpoint is now refused.
+#[test]
+fn checkpoint_with_a_time_but_no_event_is_refused() {
+    let disc = Disc::new(Vector::new([1.0, 1.0]), Vector::new([0.0, 0.0]), 0.5);
+    let sim = Simulation::new(&[disc], SimBox::walls([10.0, 10.0]), Options::default()).unwrap();
+    let good = sim.to_checkpoint(b"");
+    // As in the test above: the disc's event code, then (with no event) its time.
+    let code = 100 + 8 + 16 + 16 + 8 + 8 + 4;
+    assert_eq!(good[HEADER + code], 0);
+    let time_at = code + 1;
+    let mut timed = good.clone();
+    for (k, b) in 1.0f64.to_le_bytes().iter().enumerate() {
+        timed = patched(&timed, time_at + k, *b);
+    }
+    match Simulation::<2>::from_checkpoint(&timed) {
+        Err(Error::Checkpoint(m)) => assert!(m.contains("no event"), "{m}"),
+        other => panic!("{other:?}"),
+    }
+}

@@ -471,6 +471,9 @@ impl<const D: usize> Simulation<D> {
             if t.is_nan() || t < now {
                 return bad(format!("disc {i}: event time {t} before the clock {now}"));
             }
+            if pending == Pending::Nothing && t != f64::INFINITY {
+                return bad(format!("disc {i}: an event time {t} with no event"));
+            }
             times.push(t);
             let m = r.f64()?;
             if !(m.is_finite() && m > 0.0) {
