@@ -103,3 +103,24 @@ fn checkpoint_with_a_time_but_no_event_is_refused() {
         other => panic!("{other:?}"),
     }
 }
+
+/// Found by fuzzing (`read_checkpoint`): a checkpoint whose disc had a finite speed but an
+/// infinite kinetic energy (which the constructor refuses) was accepted, and its run turned
+/// positions into infinities. The reader now refuses what the constructor refuses.
+#[test]
+fn checkpoint_with_an_infinite_kinetic_energy_is_refused() {
+    let disc = Disc::new(Vector::new([1.0, 1.0]), Vector::new([1.0, 0.0]), 0.5);
+    let sim = Simulation::new(&[disc], SimBox::walls([10.0, 10.0]), Options::default()).unwrap();
+    let good = sim.to_checkpoint(b"");
+    // The disc's velocity follows the 100 bytes before the discs and its position.
+    let vx = 100 + 8 + 16;
+    assert_eq!(good[HEADER + vx..HEADER + vx + 8], 1.0f64.to_le_bytes());
+    let mut fast = good.clone();
+    for (k, b) in 1e200f64.to_le_bytes().iter().enumerate() {
+        fast = patched(&fast, vx + k, *b);
+    }
+    match Simulation::<2>::from_checkpoint(&fast) {
+        Err(Error::Checkpoint(m)) => assert!(m.contains("kinetic energy"), "{m}"),
+        other => panic!("{other:?}"),
+    }
+}

@@ -21,7 +21,7 @@ use crate::events::{Pending, Side};
 use crate::math::Vector;
 use crate::resolve::CollisionRule;
 use crate::schedule::{CalendarQueue, EventQueue};
-use crate::state::{Barrier, Boundary, Demon, SimBox};
+use crate::state::{Barrier, Boundary, Demon, Disc, SimBox};
 
 use super::{Body, MultiContact, Simulation, Stats};
 
@@ -500,6 +500,18 @@ impl<const D: usize> Simulation<D> {
                 pending,
             });
         }
+        // What the constructor refuses (a kinetic energy that overflows, a disc wider than a
+        // walled box) is refused here too.
+        let discs: Vec<Disc<D>> = body
+            .iter()
+            .zip(&mass)
+            .map(|(b, &m)| Disc {
+                mass: m,
+                ..Disc::new(b.pos, b.vel, b.radius)
+            })
+            .collect();
+        super::check::validate_discs(&discs, &sim_box)
+            .map_err(|e| Error::Checkpoint(e.to_string()))?;
         if rule == CollisionRule::Swap && mass.iter().any(|&m| m != mass[0]) {
             return bad("the swap rule with unequal masses");
         }
