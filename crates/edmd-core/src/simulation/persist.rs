@@ -460,7 +460,7 @@ impl<const D: usize> Simulation<D> {
                 x => return bad(format!("disc {i}: event code {x}")),
             };
             let finite = (0..D).all(|a| pos[a].is_finite() && vel[a].is_finite());
-            if !finite || !time.is_finite() || !(radius.is_finite() && radius > 0.0) {
+            if !(finite && time.is_finite() && radius.is_finite() && radius > 0.0) {
                 return bad(format!(
                     "disc {i}: a position, velocity, clock or radius that is not a finite number"
                 ));
