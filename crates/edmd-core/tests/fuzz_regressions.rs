@@ -124,3 +124,36 @@ fn checkpoint_with_an_infinite_kinetic_energy_is_refused() {
         other => panic!("{other:?}"),
     }
 }
+
+/// Found by fuzzing (`read_checkpoint`): a checkpoint whose event counters stood at `u64::MAX`
+/// was accepted, and the next event overflowed the counter: a panic where overflow is checked.
+/// The counters now wrap, like the per-disc collision counters.
+#[test]
+fn event_counters_at_their_maximum_wrap_instead_of_overflowing() {
+    let discs = [
+        Disc::new(Vector::new([1.0, 1.0]), Vector::new([1.0, 0.3]), 0.2),
+        Disc::new(Vector::new([3.0, 1.0]), Vector::new([-1.0, 0.2]), 0.2),
+        Disc::new(Vector::new([8.0, 8.0]), Vector::new([0.5, -1.0]), 0.2),
+    ];
+    let door = Barrier {
+        door: Some((2.0, 4.0)),
+        ..Barrier::solid(0, 6.0)
+    };
+    let sim = Simulation::with_barriers(
+        &discs,
+        SimBox::walls([10.0, 10.0]),
+        &[door],
+        Options::default(),
+    )
+    .unwrap();
+    let mut full = sim.to_checkpoint(b"");
+    // The five counters (pair, wall, cell, stale, barrier) follow the two clocks.
+    for at in 36..76 {
+        full = patched(&full, at, 0xff);
+    }
+    let (mut sim, _) = Simulation::<2>::from_checkpoint(&full).unwrap();
+    assert_eq!(sim.stats().wall, u64::MAX);
+    sim.run_events(200, &mut ());
+    let s = sim.stats();
+    assert!(s.wall < 200 && s.disc_disc < 200, "{s:?}");
+}
