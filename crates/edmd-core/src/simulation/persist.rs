@@ -452,6 +452,15 @@ impl<const D: usize> Simulation<D> {
                     if index as usize >= barriers.len() || part > 3 {
                         return bad(format!("disc {i}: barrier event {index}/{part}"));
                     }
+                    // Door edges (1, 2) need a door, the doorway (3) a demon.
+                    let w = &barriers[index as usize];
+                    if (matches!(part, 1 | 2) && w.door.is_none())
+                        || (part == 3 && w.demon.is_none())
+                    {
+                        return bad(format!(
+                            "disc {i}: barrier event {index}/{part} at a barrier without that door or demon"
+                        ));
+                    }
                     Pending::Barrier {
                         index: index as u16,
                         part,
