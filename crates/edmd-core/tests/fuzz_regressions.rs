@@ -264,3 +264,28 @@ fn checkpoint_with_an_event_at_a_door_that_does_not_exist_is_refused() {
         }
     }
 }
+
+/// Found by fuzzing (`read_checkpoint`): a disc whose own clock lay far in the past, with a
+/// large but finite speed, was accepted; its position at the current time was infinite, and
+/// after a run the simulation wrote a checkpoint it could not read back. A disc's clock must
+/// now be no later than the last event and give a finite position.
+#[test]
+fn checkpoint_with_a_disc_clock_that_gives_an_infinite_position_is_refused() {
+    let disc = Disc::new(Vector::new([1.0, 1.0]), Vector::new([1.0, 0.0]), 0.5);
+    let sim = Simulation::new(&[disc], SimBox::walls([10.0, 10.0]), Options::default()).unwrap();
+    let good = sim.to_checkpoint(b"");
+    // The disc's velocity and then its clock follow the 100 bytes before the discs and its
+    // position.
+    let (vx, clock) = (100 + 8 + 16, 100 + 8 + 32);
+    let mut far = good.clone();
+    for (k, b) in 1e77f64.to_le_bytes().iter().enumerate() {
+        far = patched(&far, vx + k, *b);
+    }
+    for (k, b) in (-1e299f64).to_le_bytes().iter().enumerate() {
+        far = patched(&far, clock + k, *b);
+    }
+    match Simulation::<2>::from_checkpoint(&far) {
+        Err(Error::Checkpoint(m)) => assert!(m.contains("clock"), "{m}"),
+        other => panic!("{other:?}"),
+    }
+}

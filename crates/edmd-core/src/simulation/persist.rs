@@ -474,6 +474,12 @@ impl<const D: usize> Simulation<D> {
                     "disc {i}: a position, velocity, clock or radius that is not a finite number"
                 ));
             }
+            // A disc's own clock is never past the last event, and where it is now is a number.
+            if time > event_time || !pos.advanced(vel, now - time).is_finite() {
+                return bad(format!(
+                    "disc {i}: its clock {time} is after the last event or puts it out of range"
+                ));
+            }
             // Every event at or before the observation time has been handled (`run_until`),
             // so a pending one before it would turn the clock back.
             let t = r.f64()?;
