@@ -4,6 +4,7 @@ mod support;
 
 mod checkpoint;
 mod exact_cases;
+mod fuzz_regressions;
 mod generators;
 mod invariants;
 mod naive_reference;

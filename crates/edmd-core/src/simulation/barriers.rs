@@ -105,7 +105,7 @@ impl<const D: usize> Simulation<D> {
         if hit != BarrierHit::DoorPassed {
             b.count = b.count.wrapping_add(1);
         }
-        self.stats.barrier += 1;
+        self.stats.barrier = self.stats.barrier.wrapping_add(1);
         EventRecord {
             time: t,
             kind: EventKind::Barrier { i, barrier: k, hit },

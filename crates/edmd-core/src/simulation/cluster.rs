@@ -79,7 +79,7 @@ impl<const D: usize> Simulation<D> {
             self.body[x].vel = vel[k];
             self.body[x].count = self.body[x].count.wrapping_add(1);
         }
-        self.stats.disc_disc += 1;
+        self.stats.disc_disc = self.stats.disc_disc.wrapping_add(1);
         for &x in &members {
             self.predict_outlined(x);
         }

@@ -262,7 +262,7 @@ impl<const D: usize> Simulation<D> {
     pub(super) fn discard_if_stale(&mut self, i: usize) -> bool {
         if let Pending::Disc { partner, seen } = self.body[i].pending {
             if self.body[partner as usize].count != seen {
-                self.stats.stale += 1;
+                self.stats.stale = self.stats.stale.wrapping_add(1);
                 self.predict(i);
                 return true;
             }
@@ -296,7 +296,7 @@ impl<const D: usize> Simulation<D> {
         self.body[j].vel = out.vj;
         self.body[i].count = self.body[i].count.wrapping_add(1);
         self.body[j].count = self.body[j].count.wrapping_add(1);
-        self.stats.disc_disc += 1;
+        self.stats.disc_disc = self.stats.disc_disc.wrapping_add(1);
         let record = EventRecord {
             time: t,
             kind: EventKind::DiscDisc { i, j },
@@ -316,7 +316,7 @@ impl<const D: usize> Simulation<D> {
         };
         let impulse = reflect(&mut b.vel, axis, self.mass[i]);
         b.count = b.count.wrapping_add(1);
-        self.stats.wall += 1;
+        self.stats.wall = self.stats.wall.wrapping_add(1);
         EventRecord {
             time: t,
             kind: EventKind::Wall {
@@ -335,7 +335,7 @@ impl<const D: usize> Simulation<D> {
             self.body[i].pos[axis] += wrap as f64 * self.sim_box.lengths[axis];
             self.image[i][axis] -= wrap;
         }
-        self.stats.cell_crossing += 1;
+        self.stats.cell_crossing = self.stats.cell_crossing.wrapping_add(1);
         EventRecord {
             time: t,
             kind: EventKind::CellCrossing { i, axis, side },

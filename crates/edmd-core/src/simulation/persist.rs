@@ -22,7 +22,7 @@ use crate::events::{Pending, Side};
 use crate::math::Vector;
 use crate::resolve::CollisionRule;
 use crate::schedule::{CalendarQueue, EventQueue};
-use crate::state::{Barrier, Boundary, Demon, SimBox};
+use crate::state::{Barrier, Boundary, Demon, Disc, SimBox};
 
 use super::{Body, MultiContact, Simulation, Stall, Stats};
 
@@ -153,6 +153,14 @@ impl<'a> Reader<'a> {
     fn bytes(&mut self) -> Result<&'a [u8], Error> {
         let n = self.len(1)?;
         self.take(n)
+    }
+    /// A yes/no byte, 0 or 1 as written: anything else would not round-trip.
+    fn flag(&mut self, what: &str) -> Result<bool, Error> {
+        match self.u8()? {
+            0 => Ok(false),
+            1 => Ok(true),
+            x => bad(format!("{what} flag {x} (0 or 1 expected)")),
+        }
     }
 }
 
@@ -393,10 +401,10 @@ impl<const D: usize> Simulation<D> {
         for _ in 0..nb {
             let axis = r.u8()? as usize;
             let mut b = Barrier::solid(axis, r.f64()?);
-            if r.u8()? == 1 {
+            if r.flag("barrier door")? {
                 b.door = Some((r.f64()?, r.f64()?));
             }
-            if r.u8()? == 1 {
+            if r.flag("barrier demon")? {
                 b.demon = Some(Demon {
                     fast: r.f64()?,
                     slow: r.f64()?,
@@ -459,6 +467,15 @@ impl<const D: usize> Simulation<D> {
                     if index as usize >= barriers.len() || part > 3 {
                         return bad(format!("disc {i}: barrier event {index}/{part}"));
                     }
+                    // Door edges (1, 2) need a door, the doorway (3) a demon.
+                    let w = &barriers[index as usize];
+                    if (matches!(part, 1 | 2) && w.door.is_none())
+                        || (part == 3 && w.demon.is_none())
+                    {
+                        return bad(format!(
+                            "disc {i}: barrier event {index}/{part} at a barrier without that door or demon"
+                        ));
+                    }
                     Pending::Barrier {
                         index: index as u16,
                         part,
@@ -475,11 +492,20 @@ impl<const D: usize> Simulation<D> {
             if (0..D).any(|a| !sim_box.is_periodic(a) && 2.0 * radius >= sim_box.lengths[a]) {
                 return bad(format!("disc {i}: radius {radius} fills the box"));
             }
-            let t = r.f64()?;
-            if t.is_nan() || t < event_time {
+            // A disc's own clock is never past the last event, and where it is now is a number.
+            if time > event_time || !pos.advanced(vel, now - time).is_finite() {
                 return bad(format!(
-                    "disc {i}: event time {t} before the clock {event_time}"
+                    "disc {i}: its clock {time} is after the last event or puts it out of range"
                 ));
+            }
+            // Every event at or before the observation time has been handled (`run_until`),
+            // so a pending one before it would turn the clock back.
+            let t = r.f64()?;
+            if t.is_nan() || t < now {
+                return bad(format!("disc {i}: event time {t} before the clock {now}"));
+            }
+            if pending == Pending::Nothing && t != f64::INFINITY {
+                return bad(format!("disc {i}: an event time {t} with no event"));
             }
             times.push(t);
             let m = r.f64()?;
@@ -507,6 +533,18 @@ impl<const D: usize> Simulation<D> {
                 pending,
             });
         }
+        // What the constructor refuses (a kinetic energy that overflows, a disc wider than a
+        // walled box) is refused here too.
+        let discs: Vec<Disc<D>> = body
+            .iter()
+            .zip(&mass)
+            .map(|(b, &m)| Disc {
+                mass: m,
+                ..Disc::new(b.pos, b.vel, b.radius)
+            })
+            .collect();
+        super::check::validate_discs(&discs, &sim_box)
+            .map_err(|e| Error::Checkpoint(e.to_string()))?;
         if rule == CollisionRule::Swap && mass.iter().any(|&m| m != mass[0]) {
             return bad("the swap rule with unequal masses");
         }
