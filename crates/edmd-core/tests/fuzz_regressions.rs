@@ -289,3 +289,27 @@ fn checkpoint_with_a_disc_clock_that_gives_an_infinite_position_is_refused() {
         other => panic!("{other:?}"),
     }
 }
+
+/// Found by fuzzing (`read_checkpoint`, `fuzz/open/read_checkpoint-disc-outside-box`): the
+/// reader did not check that the discs are inside their walls, and a checkpoint with a disc
+/// outside ran into huge energies and infinite positions. A disc outside the box is now
+/// refused (a run always keeps them inside; overlapping discs can be legitimate, from runs of
+/// files with `--allow-overlaps`).
+#[test]
+fn checkpoint_with_a_disc_outside_the_box_is_refused() {
+    let disc = Disc::new(Vector::new([1.0, 1.0]), Vector::new([1.0, 0.0]), 0.5);
+    let sim = Simulation::new(&[disc], SimBox::walls([10.0, 10.0]), Options::default()).unwrap();
+    let good = sim.to_checkpoint(b"");
+    assert!(Simulation::<2>::from_checkpoint(&good).is_ok());
+    // The disc's x position follows the 100 bytes before the discs and its count (8 bytes).
+    let x = 100 + 8;
+    assert_eq!(good[HEADER + x..HEADER + x + 8], 1.0f64.to_le_bytes());
+    let mut outside = good.clone();
+    for (k, b) in (-3.0f64).to_le_bytes().iter().enumerate() {
+        outside = patched(&outside, x + k, *b);
+    }
+    match Simulation::<2>::from_checkpoint(&outside) {
+        Err(Error::Checkpoint(m)) => assert!(m.contains("outside the box"), "{m}"),
+        other => panic!("{other:?}"),
+    }
+}

@@ -643,6 +643,11 @@ impl<const D: usize> Simulation<D> {
             stall,
         };
         sim.set_portable_loop(false);
+        // Every run keeps its discs inside their walls (a wall collision puts a disc exactly at
+        // contact); one outside would be driven to huge energies by the walls.
+        if let Some(&i) = sim.discs_outside(super::OVERLAP_TOLERANCE).first() {
+            return bad(format!("disc {i} is outside the box"));
+        }
         Ok((sim, extra))
     }
 }
