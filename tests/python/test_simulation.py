@@ -101,6 +101,32 @@ def test_pickle_mid_run_continues_bit_for_bit(dim):
         assert s.stats == sim.stats
 
 
+def test_pickle_keeps_the_measurements_under_way():
+    sim = small_fluid()
+    sim.measure("pressure", "collisions", "msd", every=0.5)
+    sim.run(until=7.3)
+    restored = pickle.loads(pickle.dumps(sim))
+    for s in (sim, restored):
+        s.run(until=20.0)
+    a, b = sim.results(), restored.results()
+    assert a["pressure"]["Z"]["blocks"] > 20
+    assert a["pressure"] == b["pressure"] and a["collisions"] == b["collisions"]
+    for name, table in a["tables"].items():
+        for column, values in table.items():
+            assert np.array_equal(values, b["tables"][name][column]), (name, column)
+
+
+def test_a_clock_that_stops_raises_value_error():
+    # A column of touching discs filling the box's height between walls: every collision
+    # happens at t = 0 again (README, "Exactness").
+    n = 10
+    pos = [[0.5, 0.5 + k] for k in range(n)]
+    vel = [[0.0, 1.0 if k == 0 else 0.0] for k in range(n)]
+    sim = edmd.Simulation.from_arrays(pos, vel, radii=0.5, box=(2.0, float(n)), boundary="walls")
+    with pytest.raises(ValueError, match="clock stopped"):
+        sim.run(until=1.0)
+
+
 def test_checkpoint_file_continues(tmp_path):
     sim = small_fluid()
     sim.run(until=3.0)
