@@ -113,7 +113,7 @@ def test_pickle_keeps_the_measurements_under_way():
     assert a["pressure"] == b["pressure"] and a["collisions"] == b["collisions"]
     for name, table in a["tables"].items():
         for column, values in table.items():
-            assert np.array_equal(values, b["tables"][name][column]), (name, column)
+            assert np.array_equal(values, b["tables"][name][column], equal_nan=True), (name, column)
 
 
 def test_a_clock_that_stops_raises_value_error():
