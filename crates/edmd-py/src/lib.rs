@@ -248,7 +248,8 @@ impl PySimulation {
             };
             options(rule.unwrap_or(default), multi, allow_overlaps)
         };
-        if let Some(bytes) = read_checkpoint(&path) {
+        // The CLI's reader: only a file that starts with the magic number, and bounded in size.
+        if let Some(bytes) = edmd_cli::commands::run::read_checkpoint(&path).map_err(cli_error)? {
             if format.is_some() || columns.is_some() || rule.is_some() || multi || allow_overlaps {
                 return Err(value_error(format!(
                     "{name}: a checkpoint carries its run's options: drop format, columns, rule, multi and allow_overlaps"
@@ -754,23 +755,6 @@ impl PySimulation {
             boundaries.join(", ")
         )
     }
-}
-
-/// Reads `path` as a checkpoint if it starts with the checkpoint magic number.
-fn read_checkpoint(path: &Path) -> Option<Vec<u8>> {
-    use std::io::Read;
-    let mut f = std::fs::File::open(path).ok()?;
-    if !f.metadata().ok()?.is_file() {
-        return None;
-    }
-    let mut start = [0u8; 8];
-    f.read_exact(&mut start).ok()?;
-    if !edmd_core::is_checkpoint(&start) {
-        return None;
-    }
-    let mut bytes = start.to_vec();
-    f.read_to_end(&mut bytes).ok()?;
-    Some(bytes)
 }
 
 /// A `ValueError` naming the discs when the run's clock stopped advancing (the engine then

@@ -57,7 +57,7 @@ pub struct Summary {
 /// Runs `edmd run`.
 pub fn run(args: &RunArgs) -> Result<()> {
     check_options(args)?;
-    if let Some(bytes) = read_checkpoint(&args.file)? {
+    if let Some(bytes) = read_checkpoint(Path::new(&args.file))? {
         if args.columns.is_some()
             || args.format != FormatArg::Auto
             || args.rule.is_some()
@@ -298,9 +298,9 @@ fn names(which: &[Measure]) -> String {
 
 /// Reads `path` as a checkpoint if it starts with the checkpoint magic number; `None` for any
 /// other file (read as a data file then).
-fn read_checkpoint(path: &str) -> Result<Option<Vec<u8>>> {
+pub fn read_checkpoint(path: &Path) -> Result<Option<Vec<u8>>> {
     use std::io::Read;
-    if path == "-" || std::fs::metadata(path).map_or(true, |m| !m.is_file()) {
+    if path == Path::new("-") || std::fs::metadata(path).map_or(true, |m| !m.is_file()) {
         return Ok(None);
     }
     let mut f = match std::fs::File::open(path) {
@@ -314,10 +314,11 @@ fn read_checkpoint(path: &str) -> Result<Option<Vec<u8>>> {
     let mut bytes = start.to_vec();
     f.take(crate::input::MAX_FILE as u64 + 1)
         .read_to_end(&mut bytes)
-        .or_else(|e| user_error(format!("{path}: cannot read: {e}")))?;
+        .or_else(|e| user_error(format!("{}: cannot read: {e}", path.display())))?;
     if bytes.len() > crate::input::MAX_FILE {
         return user_error(format!(
-            "{path}: checkpoint: larger than the largest file read"
+            "{}: checkpoint: larger than the largest file read",
+            path.display()
         ));
     }
     Ok(Some(bytes))
@@ -584,9 +585,10 @@ fn check_outputs(args: &RunArgs, which: &[Measure]) -> Result<()> {
     // A checkpoint may replace the checkpoint it continues from (atomically), but no other
     // input and no other output.
     let input = Path::new(&args.file);
-    let continuing_in_place = args.checkpoint.as_deref().is_some_and(|c| {
-        same_file(c, input) && read_checkpoint(&args.file).ok().flatten().is_some()
-    });
+    let continuing_in_place = args
+        .checkpoint
+        .as_deref()
+        .is_some_and(|c| same_file(c, input) && read_checkpoint(input).ok().flatten().is_some());
     if let Some(c) = &args.checkpoint {
         if !continuing_in_place {
             outputs.push(("--checkpoint", c));
