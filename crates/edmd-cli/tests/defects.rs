@@ -1025,3 +1025,32 @@ fn runs_whose_clock_stops_fail_naming_the_discs() {
         ["column.txt", "course.txt", "lattice.txt"]
     );
 }
+
+// 11. With multi-disc collisions, a light disc pinched between two discs 10^12 times heavier
+// ran the contact integrator for ever (found by fuzzing). Now the run stops at once with one
+// line saying why, exit status 2, and writes nothing.
+#[test]
+fn multi_disc_collisions_at_extreme_mass_ratios_fail_saying_why() {
+    let dir = tempfile::tempdir().unwrap();
+    let pinch = write(
+        &dir,
+        "pinch.txt",
+        "3\n# edmd box 10 10\n\
+         3 5 1 0 0.5 1e12 0 0 0\n\
+         4 5 0 0 0.5 1 0 0 0\n\
+         5 5 -1 0 0.5 1e12 0 0 0\n",
+    );
+    let out = within(
+        dir.path(),
+        "edmd",
+        &["run", &pinch, "--until", "10", "--multi", "-o", "out.txt"],
+        256,
+        30,
+    );
+    refused_with(
+        &out,
+        "a multi-disc collision at t = 0 did not end within 10000000 contact steps, among discs 0, 1, 2",
+    );
+    refused_with(&out, "nothing written");
+    assert_eq!(names(dir.path()), ["pinch.txt"]);
+}

@@ -5,10 +5,13 @@ use crate::error::Error;
 use crate::state::{Disc, SimBox};
 
 impl<const D: usize> Simulation<D> {
-    /// Overlapping pairs at the current time: those closer than `sigma (1 - tol)`.
+    /// Overlapping pairs at the current time: those closer than `sigma (1 - tol)`, less the
+    /// rounding allowance [`super::OVERLAP_ROUNDING`]` (L + (|v_i| + |v_j|) |t|)`.
     pub fn overlaps(&self, tol: f64) -> OverlapReport {
         let mut report = OverlapReport::default();
         let now = self.now;
+        let longest = self.sim_box.lengths.iter().copied().fold(0.0, f64::max);
+        let speed = |k: usize| self.body[k].vel.norm2().sqrt();
         for i in 0..self.len() {
             let pi = self.body[i].position_at(now);
             self.grid.for_each_near(self.grid.cell_of(i), |j, shift| {
@@ -18,7 +21,9 @@ impl<const D: usize> Simulation<D> {
                 let pj = self.body[j].position_at(now) + shift;
                 let sigma = self.body[i].radius + self.body[j].radius;
                 let d = (pj - pi).norm2().sqrt();
-                if d < sigma * (1.0 - tol) {
+                let rounding =
+                    super::OVERLAP_ROUNDING * (longest + (speed(i) + speed(j)) * now.abs());
+                if d < sigma * (1.0 - tol) - rounding {
                     report.count += 1;
                     let overlap = (sigma - d) / sigma;
                     // "First" is the pair completed earliest in input order.

@@ -73,7 +73,10 @@ impl<const D: usize> Simulation<D> {
             .map(|&(a, b, normal)| crate::resolve::cluster::ClusterContact { a, b, normal })
             .collect();
         let before = self.body[i].vel;
-        crate::resolve::cluster::resolve_cluster(&mut vel, &mass, &cc, mc.exponent);
+        let outcome = crate::resolve::cluster::resolve_cluster(&mut vel, &mass, &cc, mc.exponent);
+        if !outcome.finished {
+            self.record_cluster_stall(t, &members);
+        }
         for (k, &x) in members.iter().enumerate() {
             self.body[x].advance_to(t);
             self.body[x].vel = vel[k];

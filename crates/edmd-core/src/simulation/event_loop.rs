@@ -118,6 +118,9 @@ impl<const D: usize> Simulation<D> {
     /// same Rust code and give bit-identical results: Rust never fuses a multiply and an add
     /// by itself, so the extra instructions change nothing but speed.
     fn run_chunk<O: Observer<D>>(&mut self, t_limit: f64, n: u64, observer: &mut O) -> u64 {
+        if self.multi.is_some() {
+            return self.run_loop_watched(t_limit, n, observer);
+        }
         #[cfg(target_arch = "x86_64")]
         if self.v3 {
             // SAFETY: `run_loop_v3` only needs the processor features, and `v3` is only set
@@ -154,6 +157,26 @@ impl<const D: usize> Simulation<D> {
         for k in 0..n {
             match self.step_inline(t_limit) {
                 Some(e) => observer.on_event(&e, self),
+                None => return k,
+            }
+        }
+        n
+    }
+
+    /// The loop for multi-disc collisions, which can give a cluster up and stop the run
+    /// (`StallCause::Cluster`): it looks for that after each event, so that a run stops at the
+    /// cluster whatever the size of its chunks. The other loops have no such check per event;
+    /// multi-disc collisions are for demonstrations, where speed matters less.
+    #[inline(never)]
+    fn run_loop_watched<O: Observer<D>>(&mut self, t_limit: f64, n: u64, observer: &mut O) -> u64 {
+        for k in 0..n {
+            match self.step_inline(t_limit) {
+                Some(e) => {
+                    observer.on_event(&e, self);
+                    if self.stall.is_some() {
+                        return k + 1;
+                    }
+                }
                 None => return k,
             }
         }

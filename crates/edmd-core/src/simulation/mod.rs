@@ -39,9 +39,11 @@ mod stall;
 
 pub use check::OverlapReport;
 pub use event_loop::x86_64_v3_available;
-pub use options::{MultiContact, Options, OverlapPolicy, Stats, OVERLAP_TOLERANCE};
+pub use options::{
+    MultiContact, Options, OverlapPolicy, Stats, OVERLAP_ROUNDING, OVERLAP_TOLERANCE,
+};
 pub use persist::{checkpoint_dim, is_checkpoint, FORMAT_VERSION as CHECKPOINT_VERSION};
-pub use stall::{Stall, MIN_STALL_EVENTS, STALL_EVENTS_PER_DISC};
+pub use stall::{Stall, StallCause, MIN_STALL_EVENTS, STALL_EVENTS_PER_DISC};
 
 use crate::cells::CellGrid;
 use crate::error::Error;

@@ -24,7 +24,7 @@ use crate::resolve::CollisionRule;
 use crate::schedule::{CalendarQueue, EventQueue};
 use crate::state::{Barrier, Boundary, Demon, Disc, SimBox};
 
-use super::{Body, MultiContact, Simulation, Stall, Stats};
+use super::{Body, MultiContact, Simulation, Stall, StallCause, Stats};
 
 /// The first bytes of every checkpoint.
 pub const MAGIC: &[u8; 8] = b"EDMDCKPT";
@@ -313,7 +313,10 @@ impl<const D: usize> Simulation<D> {
         match &self.stall {
             None => w.u8(0),
             Some(s) => {
-                w.u8(1);
+                w.u8(match s.cause {
+                    StallCause::Clock => 1,
+                    StallCause::Cluster => 2,
+                });
                 w.f64(s.time);
                 w.u64(s.events);
                 w.len(s.count);
@@ -584,7 +587,7 @@ impl<const D: usize> Simulation<D> {
         let still = r.u64()?;
         let stall = match r.u8()? {
             0 => None,
-            1 => {
+            code @ (1 | 2) => {
                 let time = r.f64()?;
                 let events = r.u64()?;
                 let count = r.u64()? as usize;
@@ -600,11 +603,17 @@ impl<const D: usize> Simulation<D> {
                     }
                     discs.push(d);
                 }
+                let cause = if code == 1 {
+                    StallCause::Clock
+                } else {
+                    StallCause::Cluster
+                };
                 Some(Stall {
                     time,
                     events,
                     discs,
                     count,
+                    cause,
                 })
             }
             x => return bad(format!("stall code {x}")),

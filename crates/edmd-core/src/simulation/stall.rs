@@ -46,20 +46,53 @@ pub struct Stall {
     pub discs: Vec<usize>,
     /// How many discs took part (or had an event pending).
     pub count: usize,
+    /// Why the run stopped.
+    pub cause: StallCause,
+}
+
+/// Why a run stopped: see [`Stall`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum StallCause {
+    /// More than [`Simulation::stall_limit`] events in a row at one time (`Stall::events`).
+    Clock,
+    /// A multi-disc collision (`Options::multi`) that did not end within
+    /// [`crate::resolve::cluster::MAX_CONTACT_STEPS`]: masses or speeds in contact that differ
+    /// by many orders of magnitude. `Stall::events` is 1; the discs are the cluster's.
+    Cluster,
 }
 
 impl Stall {
     /// The most discs a stall names.
     pub const NAMED: usize = 8;
+
+    fn new(time: f64, events: u64, mut discs: Vec<usize>, cause: StallCause) -> Stall {
+        let count = discs.len();
+        discs.truncate(Stall::NAMED);
+        Stall {
+            time,
+            events,
+            discs,
+            count,
+            cause,
+        }
+    }
 }
 
 impl fmt::Display for Stall {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(
-            f,
-            "the clock stopped advancing at t = {}: {} events in a row at that time",
-            self.time, self.events
-        )?;
+        match self.cause {
+            StallCause::Clock => write!(
+                f,
+                "the clock stopped advancing at t = {}: {} events in a row at that time",
+                self.time, self.events
+            )?,
+            StallCause::Cluster => write!(
+                f,
+                "a multi-disc collision at t = {} did not end within {} contact steps",
+                self.time,
+                crate::resolve::cluster::MAX_CONTACT_STEPS
+            )?,
+        }
         if !self.discs.is_empty() {
             let names: Vec<String> = self.discs.iter().map(|d| d.to_string()).collect();
             let s = if self.count == 1 { "" } else { "s" };
@@ -69,7 +102,13 @@ impl fmt::Display for Stall {
             }
             write!(f, ")")?;
         }
-        write!(f, "; discs jammed at contact cannot move")
+        match self.cause {
+            StallCause::Clock => write!(f, "; discs jammed at contact cannot move"),
+            StallCause::Cluster => write!(
+                f,
+                "; their masses or speeds differ too much for multi-disc collisions (run without them)"
+            ),
+        }
     }
 }
 
@@ -151,14 +190,24 @@ impl<const D: usize> Simulation<D> {
         self.record_stall(discs);
     }
 
-    fn record_stall(&mut self, mut discs: Vec<usize>) {
-        let count = discs.len();
-        discs.truncate(Stall::NAMED);
-        self.stall = Some(Stall {
-            time: self.event_time,
-            events: self.still,
+    fn record_stall(&mut self, discs: Vec<usize>) {
+        if self.stall.is_some() {
+            // A multi-disc collision given up stopped the run first.
+            return;
+        }
+        self.stall = Some(Stall::new(
+            self.event_time,
+            self.still,
             discs,
-            count,
-        });
+            StallCause::Clock,
+        ));
+    }
+
+    /// Records that the multi-disc collision of `discs` at time `t` was given up.
+    #[cold]
+    pub(super) fn record_cluster_stall(&mut self, t: f64, discs: &[usize]) {
+        let mut discs = discs.to_vec();
+        discs.sort_unstable();
+        self.stall = Some(Stall::new(t, 1, discs, StallCause::Cluster));
     }
 }
