@@ -831,6 +831,34 @@ fn chained_runs_keep_the_true_time() {
         &run("edmd", &["run", &p("b.txt"), "--until", "7"], None),
         "the state is at t = 8",
     );
+    // `render` too: the film of a.txt (t = 5) to t = 6 at 2 frames per unit of time has the
+    // frames 5, 5.5 and 6, not 13 frames from 0.
+    refused_with(
+        &run(
+            "edmd",
+            &["render", &p("b.txt"), "--until", "7", "-o", &p("f.gif")],
+            None,
+        ),
+        "the state is at t = 8",
+    );
+    let frames = p("frames/");
+    crate::support::ok_stdout(&run(
+        "edmd",
+        &[
+            "render",
+            &p("a.txt"),
+            "--until",
+            "6",
+            "--fps",
+            "2",
+            "--size",
+            "64x64",
+            "-o",
+            &frames,
+        ],
+        None,
+    ));
+    assert_eq!(std::fs::read_dir(&frames).unwrap().count(), 3);
 }
 
 /// Runs `program ARGS` in `dir` with its address space limited to `mb` megabytes, and fails

@@ -129,20 +129,30 @@ fn jammed_square_lattice_stops() {
     );
 }
 
-// Event by event (`step`), as the viewer goes, the count is kept per event and the stall names
-// the discs with an event pending at that instant.
+// Event by event (`step`), as the viewer goes, the count is kept as the loops keep it, by
+// chunks of 65 536 events counted from the start (so stepping and running agree), and the stall
+// names the discs with an event pending at that instant. The column jams at t = 0, so the
+// first chunk past 10^6 events stops it: 16 chunks.
 #[test]
 fn stepping_a_jammed_column_stops() {
     let mut sim = column(10);
     let mut k = 0u64;
+    let stop = 16 * 65_536;
+    assert!(stop > MIN_STALL_EVENTS && stop - 65_536 <= MIN_STALL_EVENTS);
     while sim.step(10.0).is_some() {
         k += 1;
-        assert!(k <= MIN_STALL_EVENTS + 1, "step never stopped");
+        assert!(k <= stop, "step never stopped");
     }
-    assert_eq!(k, MIN_STALL_EVENTS + 1);
+    assert_eq!(k, stop);
     let s = sim.stalled().expect("stalled");
-    assert_eq!(s.events, MIN_STALL_EVENTS + 1);
+    assert_eq!(s.events, stop);
     assert!(!s.discs.is_empty());
+    // Running gets there at the same event.
+    let mut run = column(10);
+    run.run_until(10.0, &mut ());
+    let r = run.stalled().expect("stalled");
+    // The loop runs 4096 events more to name the discs.
+    assert_eq!((r.time, r.events), (s.time, stop + 4096));
 }
 
 // Many simultaneous events are not a stall: a square lattice of touching discs all moving

@@ -438,6 +438,9 @@ impl<const D: usize> ViewerApp<D> {
         if !self.last_event.is_empty() {
             ui.label(&self.last_event);
         }
+        if let Some(stall) = self.model.stall_message() {
+            ui.colored_label(egui::Color32::RED, stall);
+        }
         if D == 3 {
             ui.small("Drag the picture to turn the view. Keys: space play/pause, right arrow one event, F one frame, R restart, V reverse, C colouring, arrows up/down tilt.");
         } else {
@@ -572,6 +575,9 @@ impl<const D: usize> eframe::App for ViewerApp<D> {
             self.model
                 .run_until(self.model.sim.time() + dt * self.speed);
             self.report.borrow_mut().simulate += t0.elapsed().as_secs_f64();
+            if self.model.sim.stalled().is_some() {
+                self.playing = false;
+            }
             self.redraw = true;
         }
         self.last_frame = Some(now);

@@ -150,6 +150,12 @@ impl<const D: usize> Model<D> {
         self.trails.record(&self.sim);
     }
 
+    /// Why the simulation stopped, if it did: its clock stopped advancing, or a multi-disc
+    /// collision was given up (`edmd_core::Stall`). The viewer shows this and pauses.
+    pub fn stall_message(&self) -> Option<String> {
+        self.sim.stalled().map(|s| format!("Stopped: {s}."))
+    }
+
     /// Processes events up to and including the next one that changes a velocity (cell
     /// crossings are bookkeeping and are passed over). Returns it, or `None` if nothing will
     /// ever happen.
@@ -303,6 +309,30 @@ mod tests {
             Disc::new(Vector::new([7.0, 5.0]), Vector::new([-1.0, 0.0]), 1.0),
         ];
         Simulation::new(&discs, SimBox::walls([10.0, 10.0]), Options::default()).unwrap()
+    }
+
+    #[test]
+    fn a_stalled_run_says_why() {
+        // A column of touching discs filling the box's height: every event is at t = 0.
+        let discs: Vec<Disc> = (0..10)
+            .map(|k| {
+                let v = 0.3 - 0.1 * k as f64;
+                Disc::new(
+                    Vector::new([2.5, 0.5 + k as f64]),
+                    Vector::new([0.0, v]),
+                    0.5,
+                )
+            })
+            .collect();
+        let sim = Simulation::new(&discs, SimBox::walls([5.0, 10.0]), Options::default()).unwrap();
+        let mut m = Model::new(sim, Colouring::File);
+        assert_eq!(m.stall_message(), None);
+        m.run_until(1.0);
+        let text = m.stall_message().expect("stalled");
+        assert!(
+            text.starts_with("Stopped: the clock stopped advancing at t = 0"),
+            "{text}"
+        );
     }
 
     #[test]

@@ -1,7 +1,8 @@
 //! `edmd render FILE -o OUT --until T --fps F`: frames drawn without a screen.
 //!
 //! The frames are drawn by `edmd_draw`, the same code the viewer uses, at simulated times
-//! `k * time_scale / fps` for `k = 0, 1, ...` up to `--until` (the event loop runs between
+//! `t0 + k * time_scale / fps` for `k = 0, 1, ...` up to `--until` (`t0` is the time a state
+//! file carries, `# edmd time`, or 0; `--until` is absolute, as in `edmd run`; the event loop runs between
 //! frames, so motion is exact in every frame). The output kind follows `OUT`: `*.gif` an
 //! animated GIF, `*.mp4` an H.264 video made by piping raw frames to `ffmpeg` (which must be
 //! installed), and a folder of numbered PNG files when `OUT` ends with `/` or has no extension
@@ -43,7 +44,7 @@ pub struct RenderArgs {
     /// path ending with `/`, or without an extension, that is new or an empty folder).
     #[arg(long, short, value_name = "OUT")]
     pub output: PathBuf,
-    /// Simulated time of the last frame.
+    /// Simulated time of the last frame (absolute: a state file's '# edmd time' is the first).
     #[arg(long, value_name = "T", value_parser = parse_time, allow_negative_numbers = true)]
     pub until: f64,
     /// Frames per second of the video.
@@ -244,11 +245,6 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         &[("the input file", Path::new(&args.file))],
         &[("--output", &args.output)],
     )?;
-    let frames = (args.until * args.fps / args.time_scale).floor() + 1.0;
-    if frames.is_nan() || frames > MAX_FRAMES {
-        return user_error(format!("render: {frames:.3e} frames is too many (at most {MAX_FRAMES:.0}): lower --fps or --until, or raise --time-scale"));
-    }
-    let frames = frames as u64;
     let text = read_text(&args.file)?;
     let colouring = match args.colour {
         ColourArg::File => Colouring::File,
@@ -260,7 +256,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
             if args.slice.is_some() {
                 return user_error("render: --slice applies to 3D files, and this one is 2D");
             }
-            render_in(args, sys, kind, frames, |sim, pm| {
+            render_in(args, sys, kind, |sim, pm| {
                 draw_into(&Scene::capture(sim, colouring), pm)
             })
         }
@@ -281,7 +277,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
                     elevation: args.view.1,
                 },
             };
-            render_in(args, sys, kind, frames, |sim, pm| {
+            render_in(args, sys, kind, |sim, pm| {
                 draw3_into(&Scene3::capture(sim, colouring), view, pm)
             })
         }
@@ -293,9 +289,23 @@ fn render_in<const D: usize>(
     args: &RenderArgs,
     sys: edmd_io::LoadedSystem<D>,
     kind: OutKind,
-    frames: u64,
     picture: impl Fn(&Simulation<D>, &mut Pixmap),
 ) -> Result<()> {
+    // A state file carries its time ('# edmd time'): the film starts there and --until is
+    // absolute, as in `edmd run`.
+    let t0 = sys.time;
+    if args.until < t0 {
+        return user_error(format!(
+            "{}: the state is at t = {t0} ('# edmd time'), after --until {}: give a later end time",
+            args.file, args.until
+        ));
+    }
+    let span = args.until - t0;
+    let frames = (span * args.fps / args.time_scale).floor() + 1.0;
+    if frames.is_nan() || frames > MAX_FRAMES {
+        return user_error(format!("render: {frames:.3e} frames is too many (at most {MAX_FRAMES:.0}): lower --fps or --until, or raise --time-scale"));
+    }
+    let frames = frames as u64;
     let overlaps = if args.allow_overlaps {
         OverlapPolicy::Allow
     } else {
@@ -309,6 +319,10 @@ fn render_in<const D: usize>(
             ..Default::default()
         },
     )?;
+    if t0 != 0.0 {
+        sim.start_at(t0)
+            .or_else(|e| user_error(format!("{}: {e}", args.file)))?;
+    }
     let (w, h) = args.size;
     crate::commands::experiment::common::install_ctrlc();
     let mut sink = match kind {
@@ -342,7 +356,7 @@ fn render_in<const D: usize>(
         if crate::commands::experiment::common::stop_requested() {
             anyhow::bail!("interrupted at frame {k} of {frames}: nothing written");
         }
-        let t = (k as f64 * args.time_scale / args.fps).min(args.until);
+        let t = t0 + (k as f64 * args.time_scale / args.fps).min(span);
         crate::run_until(&mut sim, t, &mut ())?;
         picture(&sim, &mut pixmap);
         match &mut sink {

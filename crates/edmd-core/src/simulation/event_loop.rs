@@ -8,7 +8,6 @@ use crate::observer::Observer;
 use crate::resolve::wall::reflect;
 use crate::schedule::EventQueue;
 
-use super::stall::STALL_CHUNK;
 use super::{Simulation, NO_DISC};
 
 /// Whether this processor runs the event loop compiled for x86-64-v3 (AVX, AVX2, FMA, BMI1,
@@ -85,7 +84,7 @@ impl<const D: usize> Simulation<D> {
     }
 
     /// Processes up to `n` events with time `<= t_limit`; returns how many. Runs the loop in
-    /// chunks of at most `STALL_CHUNK` events and looks at the clock between chunks, so that a
+    /// the stall watcher's chunks of `STALL_CHUNK` events and looks at the clock between chunks, so that a
     /// run whose clock stops advancing stops (`stall.rs`) at no cost per event.
     pub(super) fn run_loop<O: Observer<D>>(
         &mut self,
@@ -95,11 +94,10 @@ impl<const D: usize> Simulation<D> {
     ) -> u64 {
         let mut done = 0;
         while done < n && self.stall.is_none() {
-            let k = (n - done).min(STALL_CHUNK);
-            let before = self.event_time;
+            let k = (n - done).min(self.chunk_room());
             let got = self.run_chunk(t_limit, k, observer);
             done += got;
-            if self.count_still(before, got) {
+            if self.count_events(got) {
                 self.stall_seen(t_limit, observer);
             }
             if got < k {
@@ -203,9 +201,8 @@ impl<const D: usize> Simulation<D> {
         if self.stall.is_some() {
             return None;
         }
-        let before = self.event_time;
         let e = self.step_inline(t_limit)?;
-        if self.count_still(before, 1) {
+        if self.count_events(1) {
             self.stall_pending();
         }
         Some(e)

@@ -118,6 +118,10 @@ pub struct Simulation<const D: usize = 2> {
     v3: bool,
     /// Events in a row at `event_time` counted so far (a lower bound; see `stall.rs`).
     still: u64,
+    /// `event_time` at the start of the stall watcher's current chunk of events.
+    chunk_time: f64,
+    /// Events run in the stall watcher's current chunk (below `STALL_CHUNK`).
+    chunk_events: u64,
     /// Set when the clock stopped advancing: the loops then do nothing.
     stall: Option<Stall>,
 }
@@ -253,6 +257,8 @@ impl<const D: usize> Simulation<D> {
             last_cluster: Vec::new(),
             v3: false,
             still: 0,
+            chunk_time: 0.0,
+            chunk_events: 0,
             stall: None,
         };
         sim.set_portable_loop(false);
@@ -458,6 +464,7 @@ impl<const D: usize> Simulation<D> {
             b.time = t0;
         }
         self.event_time = t0;
+        self.chunk_time = t0;
         self.now = t0;
         self.schedule_all();
         Ok(())

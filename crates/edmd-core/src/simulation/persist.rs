@@ -3,8 +3,8 @@
 //! A checkpoint holds every disc's own clock, position and velocity at that clock (the bits,
 //! not a rounded copy), its counter and pending event, mass, radius, colour, species and
 //! periodic images; the cell grid's lists in their order (the order in which a prediction
-//! meets candidates decides exact ties); the counters (the count of events in a row at one time
-//! that watches for a stalled clock included), the options, the barriers, and bytes the
+//! meets candidates decides exact ties); the counters (the stall watcher's included: see
+//! `stall.rs`), the options, the barriers, and bytes the
 //! caller adds (the command line keeps its run's options and measurements there). The event
 //! queue is rebuilt from the discs' event times: it hands out events by `(time, disc)` whatever
 //! its internal layout, so the rebuilt queue gives the same events in the same order. A run
@@ -29,8 +29,9 @@ use super::{Body, MultiContact, Simulation, Stall, StallCause, Stats};
 /// The first bytes of every checkpoint.
 pub const MAGIC: &[u8; 8] = b"EDMDCKPT";
 
-/// The checkpoint format this build writes and reads.
-pub const FORMAT_VERSION: u32 = 1;
+/// The checkpoint format this build writes. It reads this one and version 1 (which lacked the
+/// stall watcher's chunk position: a version-1 checkpoint continues as if at a chunk's start).
+pub const FORMAT_VERSION: u32 = 2;
 
 /// Header bytes: magic, version, dimension, payload length.
 const HEADER: usize = 8 + 4 + 4 + 8;
@@ -43,11 +44,11 @@ pub fn is_checkpoint(bytes: &[u8]) -> bool {
 /// The dimension a checkpoint holds, after checking its frame (magic, version, length,
 /// checksum).
 pub fn checkpoint_dim(bytes: &[u8]) -> Result<usize, Error> {
-    frame(bytes).map(|(dim, _)| dim)
+    frame(bytes).map(|(dim, _, _)| dim)
 }
 
-/// Checks the frame and returns the dimension and the payload.
-fn frame(bytes: &[u8]) -> Result<(usize, &[u8]), Error> {
+/// Checks the frame and returns the dimension, the format version and the payload.
+fn frame(bytes: &[u8]) -> Result<(usize, u32, &[u8]), Error> {
     let bad = |what: String| Err(Error::Checkpoint(what));
     if bytes.len() < MAGIC.len() || !bytes.starts_with(MAGIC) {
         return bad("not an edmd checkpoint (no EDMDCKPT magic number)".into());
@@ -60,7 +61,7 @@ fn frame(bytes: &[u8]) -> Result<(usize, &[u8]), Error> {
     }
     let word = |at: usize| u32::from_le_bytes(bytes[at..at + 4].try_into().expect("4 bytes"));
     let version = word(8);
-    if version != FORMAT_VERSION {
+    if version != FORMAT_VERSION && version != 1 {
         return bad(if version > FORMAT_VERSION {
             format!("format version {version} is newer than this edmd reads ({FORMAT_VERSION}); use a newer edmd")
         } else {
@@ -84,7 +85,7 @@ fn frame(bytes: &[u8]) -> Result<(usize, &[u8]), Error> {
     if crc32fast::hash(&bytes[..body_end]) != stored {
         return bad("corrupted: the checksum does not match".into());
     }
-    Ok((dim, &bytes[HEADER..body_end]))
+    Ok((dim, version, &bytes[HEADER..body_end]))
 }
 
 /// Little-endian writer.
@@ -310,6 +311,8 @@ impl<const D: usize> Simulation<D> {
             w.len(k);
         }
         w.u64(self.still);
+        w.f64(self.chunk_time);
+        w.u64(self.chunk_events);
         match &self.stall {
             None => w.u8(0),
             Some(s) => {
@@ -338,7 +341,7 @@ impl<const D: usize> Simulation<D> {
     /// [`Error::Checkpoint`] on anything that is not a whole, intact checkpoint of dimension
     /// `D` written by this format version.
     pub fn from_checkpoint(bytes: &[u8]) -> Result<(Self, Vec<u8>), Error> {
-        let (dim, payload) = frame(bytes)?;
+        let (dim, version, payload) = frame(bytes)?;
         if dim != D {
             return bad(format!("a {dim}D checkpoint, read as {D}D"));
         }
@@ -585,6 +588,16 @@ impl<const D: usize> Simulation<D> {
             last_cluster.push(d);
         }
         let still = r.u64()?;
+        let (chunk_time, chunk_events) = if version >= 2 {
+            let t = r.f64()?;
+            let k = r.u64()?;
+            if k >= super::stall::STALL_CHUNK || !(t.is_finite() && t <= event_time) {
+                return bad(format!("stall watcher at event {k} of its chunk, time {t}"));
+            }
+            (t, k)
+        } else {
+            (event_time, 0)
+        };
         let stall = match r.u8()? {
             0 => None,
             code @ (1 | 2) => {
@@ -649,6 +662,8 @@ impl<const D: usize> Simulation<D> {
             last_cluster,
             v3: false,
             still,
+            chunk_time,
+            chunk_events,
             stall,
         };
         sim.set_portable_loop(false);

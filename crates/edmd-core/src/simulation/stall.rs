@@ -13,6 +13,9 @@
 //! costs nothing per event and the two compiled copies of the loop are untouched. A stall is
 //! therefore noticed between [`Simulation::stall_limit`] and that plus [`STALL_CHUNK`] events
 //! after it began; the count never exceeds the true number of events in a row at that time.
+//! The chunks are counted from the start of the run, not from the start of each call, and
+//! checkpoints carry the count and the position in the chunk: a run cut into calls of any size,
+//! or continued from a checkpoint, counts exactly as the run made in one call.
 
 use std::fmt;
 
@@ -131,20 +134,34 @@ impl<const D: usize> Simulation<D> {
         MIN_STALL_EVENTS.max(STALL_EVENTS_PER_DISC.saturating_mul(self.body.len() as u64))
     }
 
-    /// Counts `events` just processed, all at time `before` if the clock still reads it.
-    /// Returns true past the limit: the caller then records the stall ([`Self::stall_seen`] or
-    /// [`Self::stall_pending`]).
+    /// Counts `events` just processed. The watcher looks at the clock only at the end of each
+    /// chunk of [`STALL_CHUNK`] events counted from the start of the run (the loops never run
+    /// past a chunk's end: [`Self::chunk_room`]), however the run is cut into calls, so that
+    /// the count, and so the run and its checkpoints, do not depend on how it was cut. A chunk
+    /// in which the clock did not advance adds its events; one in which it did starts the count
+    /// again. Returns true past the limit: the caller then records the stall
+    /// ([`Self::stall_seen`] or [`Self::stall_pending`]).
     #[inline]
-    pub(super) fn count_still(&mut self, before: f64, events: u64) -> bool {
-        if events == 0 {
+    pub(super) fn count_events(&mut self, events: u64) -> bool {
+        self.chunk_events += events;
+        if self.chunk_events < STALL_CHUNK {
             return false;
         }
-        if self.event_time != before {
+        self.chunk_events = 0;
+        let advanced = self.event_time != self.chunk_time;
+        self.chunk_time = self.event_time;
+        if advanced {
             self.still = 0;
             return false;
         }
-        self.still = self.still.saturating_add(events);
+        self.still = self.still.saturating_add(STALL_CHUNK);
         self.still > self.stall_limit()
+    }
+
+    /// Events left in the stall watcher's current chunk.
+    #[inline]
+    pub(super) fn chunk_room(&self) -> u64 {
+        STALL_CHUNK - self.chunk_events
     }
 
     /// Past the limit in the loop: runs up to [`STALL_SAMPLE`] more events (shown to
