@@ -479,3 +479,34 @@ fn checkpoints_do_not_depend_on_how_a_run_was_cut_into_calls() {
     assert_eq!(whole.discs(), cut.discs());
     assert!(whole.to_checkpoint(b"") == cut.to_checkpoint(b""));
 }
+
+/// Found by fuzzing (`read_checkpoint`, once multi-disc checkpoints were run): a disc's pending
+/// event time mutated to 2.8e8 was read as it was, so the disc, heading for a wall at t = 0.07,
+/// passed through it; the run then wrote a checkpoint it could not read back ("disc 0 is
+/// outside the box"). A disc's event can be no later than its cell exit or wall contact, which
+/// follow from its own motion: a later one is now refused.
+#[test]
+fn checkpoint_with_an_event_after_the_disc_meets_a_wall_is_refused() {
+    let disc = Disc::new(Vector::new([9.0, 1.0]), Vector::new([1.0, 0.0]), 0.25);
+    let sim = Simulation::new(&[disc], SimBox::walls([10.0, 2.0]), Options::default()).unwrap();
+    let good = sim.to_checkpoint(b"");
+    // Its first event: the wall at x = 9.75, at t = 0.75.
+    let mut probe = Simulation::<2>::from_checkpoint(&good).unwrap().0;
+    assert_eq!(probe.step(f64::INFINITY).unwrap().time, 0.75);
+    let at = (0..good.len() - 8)
+        .filter(|&k| good[k..k + 8] == 0.75f64.to_le_bytes())
+        .collect::<Vec<_>>();
+    assert_eq!(at.len(), 1, "{at:?}");
+    let mut bad = good.clone();
+    bad[at[0]..at[0] + 8].copy_from_slice(&2.8e8f64.to_le_bytes());
+    let end = bad.len() - 4;
+    let crc = crc32fast::hash(&bad[..end]);
+    bad[end..].copy_from_slice(&crc.to_le_bytes());
+    match Simulation::<2>::from_checkpoint(&bad) {
+        Err(Error::Checkpoint(m)) => assert!(
+            m.contains("disc 0: its event at t = 280000000 is after it leaves its cell or meets a wall (t = 0.75)"),
+            "{m}"
+        ),
+        other => panic!("{other:?}"),
+    }
+}

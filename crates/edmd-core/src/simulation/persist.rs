@@ -672,6 +672,18 @@ impl<const D: usize> Simulation<D> {
         if let Some(&i) = sim.discs_outside(super::OVERLAP_TOLERANCE).first() {
             return bad(format!("disc {i} is outside the box"));
         }
+        // A disc's event is the earliest it has, so never later than its cell exit or wall
+        // contact, which follow from its own motion alone (computed here exactly as when it was
+        // predicted, from its own clock); a later one would let it pass through a wall.
+        for i in 0..n {
+            let bound = sim.own_event_bound(i);
+            let t = sim.queue.get(i);
+            if t > bound {
+                return bad(format!(
+                    "disc {i}: its event at t = {t} is after it leaves its cell or meets a wall (t = {bound})"
+                ));
+            }
+        }
         Ok((sim, extra))
     }
 }

@@ -57,6 +57,33 @@ impl<const D: usize> Simulation<D> {
         (best_t, best)
     }
 
+    /// The latest time disc `i`'s pending event can have: its cell exit or wall contact from
+    /// its own clock, whichever is first, computed as [`Self::predict`] computes them (it
+    /// predicts from the disc's own clock, having just advanced it). For checking checkpoints.
+    pub(super) fn own_event_bound(&self, i: usize) -> f64 {
+        let bi = self.body[i];
+        let (dt, _, _) = self.grid.exit_time(i, bi.pos, bi.vel);
+        let mut best_t = if dt != f64::INFINITY {
+            bi.time + dt
+        } else {
+            f64::INFINITY
+        };
+        for a in 0..D {
+            if self.sim_box.is_periodic(a) {
+                continue;
+            }
+            if let Some((dt, _)) = interval_exit(
+                bi.pos[a],
+                bi.vel[a],
+                bi.radius,
+                self.sim_box.lengths[a] - bi.radius,
+            ) {
+                best_t = best_t.min(bi.time + dt);
+            }
+        }
+        best_t
+    }
+
     /// Finds disc `i`'s earliest event from the last event time on and schedules it.
     #[inline(always)]
     pub(super) fn predict(&mut self, i: usize) {
