@@ -70,7 +70,9 @@ pub struct PackOptions {
     /// Stop exactly at this packing fraction (below jamming), if given.
     pub target_packing: Option<f64>,
     /// Collisions per particle between two rescalings (each pair collision counts once).
-    /// Default 2.
+    /// Default 10: the kinetic energy grows by some tens of percent in between; 2, 5, 10 and
+    /// 20 gave the same packing fraction to 0.002 (N = 1000, 3D, G = 0.02), and each
+    /// rescaling costs about as much as N collisions.
     pub collisions_per_rescale: f64,
     /// Stop when the packing fraction grows by less than this (relatively) between two
     /// rescalings. Default `1e-14`, a few times the rounding of the positions.
@@ -83,7 +85,7 @@ impl Default for PackOptions {
             growth_rate: 0.02,
             max_pressure: 1e12,
             target_packing: None,
-            collisions_per_rescale: 2.0,
+            collisions_per_rescale: 10.0,
             min_relative_change: 1e-14,
         }
     }
