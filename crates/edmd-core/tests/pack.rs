@@ -108,7 +108,7 @@ fn a_target_packing_fraction_is_reached_exactly_and_runs_in_the_engine() {
 /// 2D 50:50 bidisperse discs with diameter ratio 1.4 at G = 0.02. O'Hern, Silbert, Liu and
 /// Nagel, PRE 68, 011306 (2003), find phi_J = 0.842 for N -> infinity (soft discs, fast
 /// quench); LS compressions of hard discs at this rate jam at the same place (measured here
-/// at N = 1000: 0.8426 and 0.8431 for seeds 1 and 2). At N = 300 the sample-to-sample spread
+/// at N = 1000, seed 1: 0.8431). At N = 300 the sample-to-sample spread
 /// is about 0.005, so the tolerance is 0.012.
 #[test]
 fn bidisperse_discs_jam_near_the_ohern_packing_fraction() {
@@ -161,8 +161,8 @@ fn monodisperse_spheres_jam_near_the_skoge_packing_fraction() {
 
 /// Slowly grown (G = 0.002) bidisperse discs are jammed: the non-rattlers are isostatic,
 /// `z = 2 d = 4` up to the `2d/N` finite-size term and what the gap tolerance misses
-/// (`1000 d / p`), and the rattlers are a few percent (about 5% in 2D bidisperse packings:
-/// O'Hern et al. 2003 report a few percent; measured here at N = 1000: 7.6%, z = 3.97).
+/// (`1000 d / p`), and the rattlers are a few percent (issue 12 expects about 5% in 2D;
+/// measured here at N = 1000: 7.2%, z = 3.95).
 #[test]
 fn slowly_grown_discs_are_isostatic_with_a_few_percent_rattlers() {
     let options = PackOptions {

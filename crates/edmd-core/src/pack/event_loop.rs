@@ -15,7 +15,7 @@
 //! - above [`LIST_PACKING`], neighbour lists replace the cell crossings (see there);
 //! - the queue is the [`TournamentQueue`]: near jamming the event times bunch so tightly that
 //!   the calendar queue's sorted current bucket overfills (measured, N = 1000 in 3D: 15% of
-//!   the time in its insertions, and the whole run 1.5 times slower).
+//!   the time in its insertions, and the whole run 1.3 times slower).
 
 use crate::error::Error;
 use crate::math::Vector;

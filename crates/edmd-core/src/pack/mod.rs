@@ -71,7 +71,7 @@ pub struct PackOptions {
     pub target_packing: Option<f64>,
     /// Collisions per particle between two rescalings (each pair collision counts once).
     /// Default 10: the kinetic energy grows by some tens of percent in between; 2, 5, 10 and
-    /// 20 gave the same packing fraction to 0.002 (N = 1000, 3D, G = 0.02), and each
+    /// 20 gave the same packing fraction within 0.0025 (N = 1000, 3D, G = 0.02), and each
     /// rescaling costs about as much as N collisions.
     pub collisions_per_rescale: f64,
     /// Stop when the packing fraction grows by less than this (relatively) between two
