@@ -4,7 +4,7 @@
 //! position `dr = r_j - r_i` and relative velocity `dv = v_j - v_i`, touch when
 //! `|dr + dv t| = a + b t`, i.e. `A t^2 + 2 B t + C = 0` with `A = dv.dv - b^2`,
 //! `B = dr.dv - a b`, `C = dr.dr - a^2` (Donev, Torquato and Stillinger, J. Comput. Phys. 202
-//! (2005) 737, section 3). `B < 0` means the gap is closing (the centres approach faster than
+//! (2005) 737). `B < 0` means the gap is closing (the centres approach faster than
 //! the contact distance grows). Unlike fixed discs, a pair with `A < 0` (relative speed below
 //! the growth speed `b`) always meets again, even when it separates now.
 //!

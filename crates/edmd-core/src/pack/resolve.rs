@@ -4,7 +4,7 @@
 //! relative velocity (negative when approaching) and `b` the growth speed of the contact
 //! distance, the pair must come out separating faster than the contact grows. The rule
 //! reverses the normal relative velocity about `b`: `u' = 2 b - u`, so `u' - b = b - u > 0`
-//! (Donev, Torquato and Stillinger, J. Comput. Phys. 202 (2005) 737, eq. 6; the `b = 0` limit
+//! (Donev, Torquato and Stillinger, J. Comput. Phys. 202 (2005) 737; the `b = 0` limit
 //! is the elastic collision). The impulse on `j` along `n` is `J = mu (u' - u) = 2 mu (b - u)`,
 //! `mu = m_i m_j / (m_i + m_j)`; `i` receives `-J`. Of it, `-2 mu u` is the elastic part, the
 //! one the pressure virial counts; the rest, `2 mu b`, is the kinetic energy the growth feeds
