@@ -132,6 +132,10 @@ fn bad_pack_options_are_refused_in_one_line() {
             &["dimension"],
         ),
         (&["pack", "missing.txt", "-o", f], &["missing.txt"]),
+        (
+            &["pack", "--n", "100", "-o", "-", "--json"],
+            &["standard output"],
+        ),
     ];
     for (args, words) in cases {
         let out = run("edmd", args, None);

@@ -118,6 +118,11 @@ pub fn run(args: &PackArgs) -> Result<()> {
             .unwrap_or_default(),
         &[("-o", Path::new(&args.output))],
     )?;
+    if args.json && args.output == "-" {
+        return user_error(
+            "pack: --json and -o - would both write to standard output; write the packing to a file",
+        );
+    }
     let options = options(args)?;
     match &args.file {
         Some(path) => {
