@@ -39,6 +39,9 @@ pub enum Command {
     },
     /// Generate a configuration (the Princeton data sets, fluids, mixtures).
     Gen(crate::commands::gen::GenArgs),
+    /// Compress to a jammed packing (Lubachevsky-Stillinger: the particles grow while they
+    /// move), or to a packing fraction below jamming.
+    Pack(crate::commands::pack::PackArgs),
     /// Run one of the experiments (writes CSV files and plots).
     #[command(subcommand)]
     Experiment(crate::commands::experiment::Experiment),

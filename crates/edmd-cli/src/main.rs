@@ -17,6 +17,7 @@ fn main() -> ExitCode {
         Command::Bench(a) => commands::bench::run(a),
         Command::Soak(a) => commands::soak::run(a),
         Command::Gen(a) => commands::gen::run(a),
+        Command::Pack(a) => commands::pack::run(a),
         Command::Render(a) => commands::render::run(a),
         Command::View { args } => return view(args),
         Command::Experiment(e) => commands::experiment::run(e),

@@ -7,6 +7,7 @@ mod bench;
 mod checkpoint;
 mod defects;
 mod experiments;
+mod pack;
 mod particles;
 mod render;
 mod run;

@@ -28,6 +28,7 @@ pub(crate) mod hint;
 pub mod math;
 pub mod measure;
 pub mod observer;
+pub mod pack;
 pub mod predict;
 pub mod resolve;
 pub mod schedule;

@@ -8,6 +8,7 @@ mod fuzz_regressions;
 mod generators;
 mod invariants;
 mod naive_reference;
+mod pack;
 mod physics;
 mod stall;
 mod three_d;

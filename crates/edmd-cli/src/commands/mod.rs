@@ -4,6 +4,7 @@ pub mod bench;
 pub mod experiment;
 pub mod gen;
 pub mod measurements;
+pub mod pack;
 pub mod particles;
 pub mod render;
 pub mod run;
