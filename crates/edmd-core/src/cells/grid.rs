@@ -383,9 +383,11 @@ impl<const D: usize> CellGrid<D> {
             }
         };
         if (0..D).all(|a| c[a] >= 1 && c[a] + 2 <= self.dims[a]) {
+            // No shift, as `-0.0`: `x + -0.0` is `x` for every `x`, so the compiler drops the
+            // addition, where `x + 0.0` turns `-0.0` into `0.0` and must be kept.
             let base = self.linear(c) as isize;
             for &off in &self.linear_offsets[..Self::NEIGHBOURS] {
-                visit(self.head[(base + off) as usize], Vector::ZERO);
+                visit(self.head[(base + off) as usize], Vector::new([-0.0; D]));
             }
             return;
         }
