@@ -1,5 +1,5 @@
 //! A uniform grid of cells no narrower than the largest disc diameter, with one intrusive
-//! doubly linked list of discs per cell.
+//! singly linked list of discs per cell.
 //!
 //! Two discs more than one cell apart along any axis cannot touch, so a disc's collision
 //! partners before its next cell crossing are all in the `3^D` cells around its own. Cell
@@ -33,8 +33,10 @@ pub struct CellGrid<const D: usize = 2> {
     /// 9 is a branch the predictor misses once a scan.
     linear_offsets: [isize; MAX_NEIGHBOURS],
     head: Vec<u32>,
+    /// The next disc in the same cell. Singly linked: a cell holds about one disc (3D) or
+    /// less (2D), so taking a disc out walks at most a step or two, and a back link would
+    /// cost 4 bytes per disc (issue 9's memory budget, BENCHMARKS.md).
     next: Vec<u32>,
-    prev: Vec<u32>,
     cell: Vec<CellCoord<D>>,
 }
 
@@ -77,7 +79,6 @@ impl<const D: usize> CellGrid<D> {
             linear_offsets,
             head: vec![NONE; total],
             next: vec![NONE; n],
-            prev: vec![NONE; n],
             cell: vec![[0; D]; n],
         })
     }
@@ -241,28 +242,24 @@ impl<const D: usize> CellGrid<D> {
     /// Files disc `i` in cell `c`.
     pub fn insert(&mut self, i: usize, c: CellCoord<D>) {
         let k = self.linear(c);
-        let h = self.head[k];
-        self.next[i] = h;
-        self.prev[i] = NONE;
-        if h != NONE {
-            self.prev[h as usize] = i as u32;
-        }
+        self.next[i] = self.head[k];
         self.head[k] = i as u32;
         self.cell[i] = c;
     }
 
     /// Takes disc `i` out of its cell.
     pub fn remove(&mut self, i: usize) {
-        let (p, n) = (self.prev[i], self.next[i]);
-        if p != NONE {
-            self.next[p as usize] = n;
-        } else {
-            let k = self.linear(self.cell[i]);
+        let k = self.linear(self.cell[i]);
+        let n = self.next[i];
+        let mut p = self.head[k];
+        if p == i as u32 {
             self.head[k] = n;
+            return;
         }
-        if n != NONE {
-            self.prev[n as usize] = p;
+        while self.next[p as usize] != i as u32 {
+            p = self.next[p as usize];
         }
+        self.next[p as usize] = n;
     }
 
     /// Empties every cell.
@@ -373,11 +370,80 @@ impl<const D: usize> CellGrid<D> {
         }
     }
 
+    /// [`Self::for_each_near`], with the neighbour cells near the grid's edges and their image
+    /// shifts worked out once per axis (three choices each) rather than once per cell and
+    /// axis. In 3D a third of the cells of a 16^3 grid (N = 4000) touch an edge. The same discs
+    /// are visited in the same order.
+    #[inline(always)]
+    pub fn for_each_near_edges_once(&self, c: CellCoord<D>, mut f: impl FnMut(usize, Vector<D>)) {
+        let mut visit = |mut j: u32, shift: Vector<D>| {
+            while j != NONE {
+                f(j as usize, shift);
+                j = self.next[j as usize];
+            }
+        };
+        if (0..D).all(|a| c[a] >= 1 && c[a] + 2 <= self.dims[a]) {
+            // No shift, as `-0.0`: `x + -0.0` is `x` for every `x`, so the compiler drops the
+            // addition, where `x + 0.0` turns `-0.0` into `0.0` and must be kept.
+            let base = self.linear(c) as isize;
+            for &off in &self.linear_offsets[..Self::NEIGHBOURS] {
+                visit(self.head[(base + off) as usize], Vector::new([-0.0; D]));
+            }
+            return;
+        }
+        // Per axis and offset -1, 0, +1: the index term, the shift, and whether that cell
+        // exists (not beyond a wall).
+        let mut term = [[0usize; 3]; D];
+        let mut shift_of = [[0.0f64; 3]; D];
+        let mut exists = [[true; 3]; D];
+        for a in 0..D {
+            let d = self.dims[a] as i64;
+            for m in 0..3 {
+                let mut x = c[a] as i64 + m as i64 - 1;
+                if x < 0 || x >= d {
+                    exists[a][m] = self.periodic[a];
+                    shift_of[a][m] = if x < 0 {
+                        -self.lengths[a]
+                    } else {
+                        self.lengths[a]
+                    };
+                    x = x.rem_euclid(d);
+                }
+                term[a][m] = x as usize * self.stride[a];
+            }
+        }
+        'cells: for off in &self.offsets[..Self::NEIGHBOURS] {
+            let mut k = 0usize;
+            let mut shift = Vector::ZERO;
+            for a in 0..D {
+                let m = (off[a] + 1) as usize;
+                if !exists[a][m] {
+                    continue 'cells;
+                }
+                k += term[a][m];
+                shift[a] = shift_of[a][m];
+            }
+            visit(self.head[k], shift);
+        }
+    }
+
     /// The grid's lists as they stand: cell heads, per-disc next and previous, and each disc's
-    /// cell (for checkpoints).
+    /// cell (for checkpoints). The back links are worked out here: the checkpoint format has
+    /// them from the time the lists were doubly linked.
     #[allow(clippy::type_complexity)]
-    pub(crate) fn lists(&self) -> (&[u32], &[u32], &[u32], &[CellCoord<D>]) {
-        (&self.head, &self.next, &self.prev, &self.cell)
+    pub(crate) fn lists(&self) -> (&[u32], &[u32], Vec<u32>, &[CellCoord<D>]) {
+        let mut prev = vec![NONE; self.next.len()];
+        for &h in &self.head {
+            let mut j = h;
+            while j != NONE {
+                let n = self.next[j as usize];
+                if n != NONE {
+                    prev[n as usize] = j;
+                }
+                j = n;
+            }
+        }
+        (&self.head, &self.next, prev, &self.cell)
     }
 
     /// Puts back lists taken by [`Self::lists`] from a grid built the same way, after checking
@@ -422,14 +488,14 @@ impl<const D: usize> CellGrid<D> {
         if let Some(i) = seen.iter().position(|s| !s) {
             return Err(format!("disc {i} is in no cell"));
         }
-        (self.head, self.next, self.prev, self.cell) = (head, next, prev, cell);
+        (self.head, self.next, self.cell) = (head, next, cell);
         Ok(())
     }
 
     /// Bytes held by the grid.
     pub fn memory_bytes(&self) -> usize {
         self.head.capacity() * 4
-            + (self.next.capacity() + self.prev.capacity()) * 4
+            + self.next.capacity() * 4
             + self.cell.capacity() * std::mem::size_of::<CellCoord<D>>()
     }
 }
@@ -504,6 +570,60 @@ mod tests {
         let mut own = vec![];
         g.for_each_near([1, 3], |j, _| own.push(j));
         assert!(own.is_empty());
+    }
+
+    #[test]
+    fn removing_from_the_middle_of_a_list_keeps_the_order_and_the_back_links() {
+        let b = SimBox::periodic([4.0, 4.0]);
+        let mut g = CellGrid::new(&b, 100, 1.0).unwrap();
+        for i in 0..4 {
+            g.insert(i, [2, 2]);
+        }
+        g.remove(2);
+        let mut seen = vec![];
+        g.for_each_near([2, 2], |j, _| seen.push(j));
+        assert_eq!(seen, vec![3, 1, 0]);
+        let (_, next, prev, _) = g.lists();
+        assert_eq!((next[3], prev[3], prev[1], prev[0]), (1, NONE, 3, 1));
+        g.remove(0);
+        g.remove(3);
+        seen.clear();
+        g.for_each_near([2, 2], |j, _| seen.push(j));
+        assert_eq!(seen, vec![1]);
+    }
+
+    #[test]
+    fn edges_once_scan_visits_what_the_plain_scan_visits() {
+        // Every cell of a 3 x 4 x 5 grid, periodic on two axes and walled on one, each cell
+        // holding 0 to 2 spheres: the same spheres, shifts and order.
+        use crate::state::sim_box::Boundary::{Periodic, Walls};
+        let b = SimBox {
+            lengths: [3.0, 4.0, 5.0],
+            boundaries: [Periodic, Walls, Periodic],
+        };
+        let mut g = CellGrid::<3>::new(&b, 60, 1.0).unwrap();
+        assert_eq!(g.dims(), [3, 4, 5]);
+        let mut i = 0;
+        for z in 0..5 {
+            for y in 0..4 {
+                for x in 0..3 {
+                    for _ in 0..(x + y + z) % 3 {
+                        g.insert(i, [x, y, z]);
+                        i += 1;
+                    }
+                }
+            }
+        }
+        for z in 0..5 {
+            for y in 0..4 {
+                for x in 0..3 {
+                    let (mut plain, mut once) = (vec![], vec![]);
+                    g.for_each_near([x, y, z], |j, s| plain.push((j, s)));
+                    g.for_each_near_edges_once([x, y, z], |j, s| once.push((j, s)));
+                    assert_eq!(plain, once);
+                }
+            }
+        }
     }
 
     #[test]

@@ -283,9 +283,13 @@ impl CalendarQueue {
     }
 }
 
-impl EventQueue for CalendarQueue {
-    fn with_len(n: usize) -> Self {
-        let m = (2 * n).max(2).next_power_of_two();
+impl CalendarQueue {
+    /// A queue for `n` discs with at least `buckets` buckets (a power of two; `with_len` makes
+    /// about `2 n`). Fewer buckets save memory (4 bytes each) and put more events in the
+    /// overflow list, which is filed again each time the calendar comes round; the order of
+    /// events is the same for any count.
+    pub fn with_buckets(n: usize, buckets: usize) -> Self {
+        let m = buckets.max(2).next_power_of_two();
         let mut q = CalendarQueue {
             time: vec![f64::INFINITY; n],
             slot: vec![OVERFLOW; n],
@@ -307,6 +311,12 @@ impl EventQueue for CalendarQueue {
             q.overflow = q.link(i, q.overflow);
         }
         q
+    }
+}
+
+impl EventQueue for CalendarQueue {
+    fn with_len(n: usize) -> Self {
+        Self::with_buckets(n, 2 * n)
     }
 
     #[inline(always)]

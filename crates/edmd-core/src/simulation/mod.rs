@@ -126,6 +126,15 @@ pub struct Simulation<const D: usize = 2> {
     stall: Option<Stall>,
 }
 
+/// The event queue for `n` discs in `D` dimensions. In 2D about two buckets per disc, as
+/// always; in 3D about one, which saves 4 bytes per sphere (issue 9 asks for at most 200 at
+/// N = 10^6) and leaves the order of events as it is. The buckets hold a few events each
+/// either way; with half as many, the calendar's horizon is half as far ahead (three times
+/// the mean time to an event rather than six), so a few more events wait in the overflow.
+pub(crate) fn new_queue<const D: usize>(n: usize) -> CalendarQueue {
+    CalendarQueue::with_buckets(n, if D == 2 { 2 * n } else { n })
+}
+
 /// "No partner found" in `predict` (disc indices are below `u32::MAX`).
 pub(crate) const NO_PARTNER: u32 = u32::MAX;
 
@@ -244,7 +253,7 @@ impl<const D: usize> Simulation<D> {
             colour: discs.iter().map(|d| d.colour).collect(),
             species: discs.iter().map(|d| d.species).collect(),
             image: vec![[0; D]; n],
-            queue: CalendarQueue::with_len(n),
+            queue: new_queue::<D>(n),
             grid,
             event_time: 0.0,
             now: 0.0,

@@ -21,7 +21,7 @@ use crate::error::Error;
 use crate::events::{Pending, Side};
 use crate::math::Vector;
 use crate::resolve::CollisionRule;
-use crate::schedule::{CalendarQueue, EventQueue};
+use crate::schedule::EventQueue;
 use crate::state::{Barrier, Boundary, Demon, Disc, SimBox};
 
 use super::{Body, MultiContact, Simulation, Stall, StallCause, Stats};
@@ -635,7 +635,7 @@ impl<const D: usize> Simulation<D> {
         if r.at != payload.len() {
             return bad("bytes after the end of the state");
         }
-        let mut queue = CalendarQueue::with_len(n);
+        let mut queue = super::new_queue::<D>(n);
         queue.begin_bulk();
         for (i, &t) in times.iter().enumerate() {
             queue.set(i, t);
