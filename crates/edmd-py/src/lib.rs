@@ -5,8 +5,8 @@
 //! made by `edmd gen`'s own function (`edmd_cli::commands::gen::make`), packings by `edmd
 //! pack`'s (`edmd_cli::commands::pack::pack`), measurements taken by `edmd run --measure`'s
 //! observers, so Python and the command line agree bit for bit. Long runs release the GIL and
-//! go in chunks of about 50 ms, checking for Ctrl-C between chunks; where a
-//! run stops never changes its trajectory, so the chunks give the uninterrupted run.
+//! go in chunks of about 50 ms, checking for Ctrl-C between chunks; where a run stops never
+//! changes its trajectory, so the chunks give the uninterrupted run.
 
 mod arrays;
 mod gsd;

@@ -51,7 +51,9 @@ fn simulation<const D: usize>(packing: &edmd_core::pack::Packing<D>) -> PyResult
 ///
 /// The diameters grow at a common rate while the particles collide, with velocities rescaled
 /// to an rms speed of 1 every 10 collisions per particle. The compression runs with the GIL
-/// released; Ctrl-C stops it with `KeyboardInterrupt` (it is noticed at a velocity rescaling).
+/// released; Ctrl-C stops it with `KeyboardInterrupt`, noticed at the next velocity rescaling
+/// (a fraction of a second apart at the default growth rate; with slow growth, at low packing
+/// fractions, seconds for many particles).
 ///
 /// Args:
 ///     n: number of particles of a random start.
