@@ -19,9 +19,19 @@ Contents:
   ``measure``/``results``, ``write`` (course, Princeton, extended XYZ, GSD, checkpoints);
   pickling keeps the exact state.
 - :mod:`edmd.gen`: the generators of ``edmd gen`` (fluids, mixtures, the Princeton data sets).
+- :func:`pack`: the compression of ``edmd pack`` (Lubachevsky-Stillinger) to a jammed packing
+  or to a packing fraction; returns ``(sim, summary)``: the packing as a :class:`Simulation`
+  ready to run, and the summary dict ``edmd pack --json`` prints. The same options and seed
+  give the file ``edmd pack`` writes, bit for bit; the GIL is released and Ctrl-C works::
+
+      sim, summary = edmd.pack(n=1000, dim=3, growth_rate=0.02, pressure=1e12, seed=1)
+      print(summary["packing_fraction"], summary["rattlers"], summary["mean_contacts"])
+      sim.run(until=10.0)                                   # the jammed packing, vibrating
+      glass, _ = edmd.pack(n=1000, dim=3, packing=0.58)     # stops exactly at 0.58
+      denser, _ = edmd.pack(start=glass, pressure=1e9)      # on from a simulation
 """
 
-from edmd._edmd import Simulation, __version__
+from edmd._edmd import Simulation, __version__, pack
 from edmd import gen
 
-__all__ = ["Simulation", "gen", "__version__"]
+__all__ = ["Simulation", "gen", "pack", "__version__"]

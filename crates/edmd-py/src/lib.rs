@@ -2,13 +2,15 @@
 //!
 //! The compiled module `edmd._edmd` behind the Python package `edmd` (in `python/edmd`).
 //! It is a thin layer: files are read by the CLI's own readers (`edmd_cli::input`), systems
-//! made by `edmd gen`'s own function (`edmd_cli::commands::gen::make`), measurements taken by
-//! `edmd run --measure`'s observers, so Python and the command line agree bit for bit. Long runs
-//! release the GIL and go in chunks of about 50 ms, checking for Ctrl-C between chunks; where a
-//! run stops never changes its trajectory, so the chunks give the uninterrupted run.
+//! made by `edmd gen`'s own function (`edmd_cli::commands::gen::make`), packings by `edmd
+//! pack`'s (`edmd_cli::commands::pack::pack`), measurements taken by `edmd run --measure`'s
+//! observers, so Python and the command line agree bit for bit. Long runs release the GIL and
+//! go in chunks of about 50 ms, checking for Ctrl-C between chunks; where a run stops never
+//! changes its trajectory, so the chunks give the uninterrupted run.
 
 mod arrays;
 mod gsd;
+mod pack;
 mod state;
 
 use std::io::Write;
@@ -898,6 +900,7 @@ fn _edmd(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<PySimulation>()?;
     m.add_function(wrap_pyfunction!(_restore, m)?)?;
     m.add_function(wrap_pyfunction!(_generate, m)?)?;
+    m.add_function(wrap_pyfunction!(pack::pack, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())
 }

@@ -108,6 +108,44 @@ pub struct Summary {
     pub output: String,
 }
 
+/// A start to compress: the particles and the box, in either dimension.
+pub enum Start {
+    /// Discs.
+    Two(Vec<Disc<2>>, SimBox<2>),
+    /// Spheres.
+    Three(Vec<Disc<3>>, SimBox<3>),
+}
+
+/// A start given rather than drawn at random (a file for the command, a simulation for the
+/// Python package).
+pub struct Given<'a> {
+    /// Its name in messages (`glass.txt:`).
+    pub name: &'a str,
+    /// What sets the random start's options in messages (`the file glass.txt`).
+    pub what: &'a str,
+    /// Its particles and box.
+    pub start: Start,
+    /// Whether it has barriers (pack refuses them).
+    pub barriers: bool,
+}
+
+/// A compressed packing and its summary (`output` left empty).
+pub enum Packed {
+    /// Discs.
+    Two(Packing<2>, Summary),
+    /// Spheres.
+    Three(Packing<3>, Summary),
+}
+
+impl Packed {
+    /// The summary.
+    pub fn summary(&self) -> &Summary {
+        match self {
+            Packed::Two(_, s) | Packed::Three(_, s) => s,
+        }
+    }
+}
+
 /// Runs `edmd pack`.
 pub fn run(args: &PackArgs) -> Result<()> {
     check_distinct(
@@ -123,30 +161,79 @@ pub fn run(args: &PackArgs) -> Result<()> {
             "pack: --json and -o - would both write to standard output; write the packing to a file",
         );
     }
-    let options = options(args)?;
-    match &args.file {
+    // The options are checked before the file is read.
+    options(args)?;
+    let what = args.file.as_ref().map(|f| format!("the file {f}"));
+    let given = match &args.file {
         Some(path) => {
-            for (flag, given) in [
-                ("dim", args.dim.is_some()),
-                ("n", args.n.is_some()),
-                ("size-ratio", args.size_ratio.is_some()),
-                ("fraction-large", args.fraction_large.is_some()),
-                ("polydispersity", args.polydispersity.is_some()),
-                ("boundary", args.boundary.is_some()),
-            ] {
-                if given {
-                    return user_error(format!(
-                        "pack: --{flag} is for a random start; the file {path} sets it"
-                    ));
-                }
-            }
+            refuse_random_options(args, what.as_deref().unwrap_or_default())?;
             let text = read_text(path)?;
-            match load_any(path, &text, None, ColumnOrder::RadiusMass)? {
+            let (start, barriers) = match load_any(path, &text, None, ColumnOrder::RadiusMass)? {
                 edmd_io::AnyLoaded::Two(sys) => {
-                    from_file(args, path, sys.discs, sys.sim_box, &sys.barriers, options)
+                    (Start::Two(sys.discs, sys.sim_box), !sys.barriers.is_empty())
                 }
-                edmd_io::AnyLoaded::Three(sys) => {
-                    from_file(args, path, sys.discs, sys.sim_box, &sys.barriers, options)
+                edmd_io::AnyLoaded::Three(sys) => (
+                    Start::Three(sys.discs, sys.sim_box),
+                    !sys.barriers.is_empty(),
+                ),
+            };
+            Some((path.as_str(), start, barriers))
+        }
+        None => None,
+    };
+    let given = given.map(|(name, start, barriers)| Given {
+        name,
+        what: what.as_deref().unwrap_or_default(),
+        start,
+        barriers,
+    });
+    let bar = progress_bar();
+    let packed = pack(args, given, |s: &Status| {
+        if let Some(pb) = &bar {
+            pb.set_message(format!(
+                "packing fraction {:.6}  reduced pressure {:.3e}  {} collisions",
+                s.packing_fraction,
+                s.reduced_pressure.unwrap_or(f64::NAN),
+                s.collisions
+            ));
+            pb.tick();
+        }
+        true
+    });
+    if let Some(pb) = &bar {
+        pb.finish_and_clear();
+    }
+    match packed? {
+        Packed::Two(packing, summary) => report(args, &packing, summary),
+        Packed::Three(packing, summary) => report(args, &packing, summary),
+    }
+}
+
+/// Checks the options, makes the start (the random one of `args`, or `given`) and compresses
+/// it, calling `progress` at every rescaling (`false` stops the compression). What `edmd pack`
+/// writes and what `edmd.pack` returns in Python, so the two agree bit for bit.
+pub fn pack(
+    args: &PackArgs,
+    given: Option<Given<'_>>,
+    progress: impl FnMut(&Status) -> bool,
+) -> Result<Packed> {
+    let options = options(args)?;
+    match given {
+        Some(given) => {
+            refuse_random_options(args, given.what)?;
+            if given.barriers {
+                return user_error(format!("{}: pack does not take barriers", given.name));
+            }
+            match given.start {
+                Start::Two(discs, sim_box) => {
+                    let discs = at_speed(args, given.name, discs)?;
+                    let (p, s) = compress(args, discs, sim_box, options, progress)?;
+                    Ok(Packed::Two(p, s))
+                }
+                Start::Three(discs, sim_box) => {
+                    let discs = at_speed(args, given.name, discs)?;
+                    let (p, s) = compress(args, discs, sim_box, options, progress)?;
+                    Ok(Packed::Three(p, s))
                 }
             }
         }
@@ -168,16 +255,37 @@ pub fn run(args: &PackArgs) -> Result<()> {
                 3 => {
                     let (discs, sim_box) = random_start::<3>(n, sizes, boundary, args.seed)
                         .or_else(|e| user_error(e.to_string()))?;
-                    compress(args, discs, sim_box, options)
+                    let (p, s) = compress(args, discs, sim_box, options, progress)?;
+                    Ok(Packed::Three(p, s))
                 }
                 _ => {
                     let (discs, sim_box) = random_start::<2>(n, sizes, boundary, args.seed)
                         .or_else(|e| user_error(e.to_string()))?;
-                    compress(args, discs, sim_box, options)
+                    let (p, s) = compress(args, discs, sim_box, options, progress)?;
+                    Ok(Packed::Two(p, s))
                 }
             }
         }
     }
+}
+
+/// Refuses the options of a random start when a start is given (`what` names it).
+fn refuse_random_options(args: &PackArgs, what: &str) -> Result<()> {
+    for (flag, set) in [
+        ("dim", args.dim.is_some()),
+        ("n", args.n.is_some()),
+        ("size-ratio", args.size_ratio.is_some()),
+        ("fraction-large", args.fraction_large.is_some()),
+        ("polydispersity", args.polydispersity.is_some()),
+        ("boundary", args.boundary.is_some()),
+    ] {
+        if set {
+            return user_error(format!(
+                "pack: --{flag} is for a random start; {what} sets it"
+            ));
+        }
+    }
+    Ok(())
 }
 
 fn options(args: &PackArgs) -> Result<PackOptions> {
@@ -212,61 +320,40 @@ fn sizes(args: &PackArgs) -> Result<PackSizes> {
     Ok(sizes)
 }
 
-fn from_file<const D: usize>(
+/// A given start's particles, with thermal velocities from the seed if all are at rest.
+fn at_speed<const D: usize>(
     args: &PackArgs,
-    path: &str,
+    name: &str,
     mut discs: Vec<Disc<D>>,
-    sim_box: SimBox<D>,
-    barriers: &[edmd_core::Barrier],
-    options: PackOptions,
-) -> Result<()> {
-    if !barriers.is_empty() {
-        return user_error(format!("{path}: pack does not take barriers"));
-    }
+) -> Result<Vec<Disc<D>>> {
     if discs.len() < 2 {
-        return user_error(format!("{path}: pack needs at least 2 particles"));
+        return user_error(format!("{name}: pack needs at least 2 particles"));
     }
     if discs.iter().all(|d| d.vel == Vector::ZERO) {
         // Particles at rest: thermal velocities from the seed.
         let mut rng = rand_pcg::Pcg64Mcg::seed_from_u64(args.seed);
         thermal_velocities(&mut discs, 1.0, &mut rng);
     }
-    compress(args, discs, sim_box, options)
+    Ok(discs)
 }
 
-/// Compresses, analyses and writes.
+/// Compresses and analyses.
 fn compress<const D: usize>(
     args: &PackArgs,
     discs: Vec<Disc<D>>,
     sim_box: SimBox<D>,
     options: PackOptions,
-) -> Result<()> {
+    progress: impl FnMut(&Status) -> bool,
+) -> Result<(Packing<D>, Summary)> {
     let n = discs.len();
     let packer = Packer::new(&discs, sim_box, options).or_else(|e| user_error(e.to_string()))?;
-    let bar = progress_bar();
     let start = Instant::now();
-    let packing = packer
-        .run(|s: &Status| {
-            if let Some(pb) = &bar {
-                pb.set_message(format!(
-                    "packing fraction {:.6}  reduced pressure {:.3e}  {} collisions",
-                    s.packing_fraction,
-                    s.reduced_pressure.unwrap_or(f64::NAN),
-                    s.collisions
-                ));
-                pb.tick();
-            }
-            true
-        })
-        .or_else(|e| user_error(e.to_string()));
-    if let Some(pb) = &bar {
-        pb.finish_and_clear();
-    }
-    let packing: Packing<D> = packing?;
+    let packing: Packing<D> = packer
+        .run(progress)
+        .or_else(|e| user_error(e.to_string()))?;
     let wall_seconds = start.elapsed().as_secs_f64();
     let tol = gap_tolerance(packing.reduced_pressure.unwrap_or(1.0), D);
     let c = contacts(&packing.discs, &packing.sim_box, tol);
-    write(args, &packing)?;
     let summary = Summary {
         dim: D,
         n,
@@ -284,22 +371,34 @@ fn compress<const D: usize>(
         rescales: packing.rescales,
         wall_seconds,
         collisions_per_second: packing.collisions as f64 / wall_seconds.max(1e-9),
-        output: args.output.clone(),
+        output: String::new(),
     };
+    Ok((packing, summary))
+}
+
+/// Writes the packing and prints the summary.
+fn report<const D: usize>(
+    args: &PackArgs,
+    packing: &Packing<D>,
+    mut summary: Summary,
+) -> Result<()> {
+    write(args, packing)?;
+    summary.output = args.output.clone();
     if args.json {
         crate::print_line(&serde_json::to_string(&summary)?);
     } else {
         eprintln!(
-            "edmd pack: {n} {} at packing fraction {:.6}, reduced pressure {:.3e} (stopped on {}), {} rattlers, {:.3} contacts per non-rattler (gap tolerance {:.1e}), {} collisions in {:.2} s; written to {}",
+            "edmd pack: {} {} at packing fraction {:.6}, reduced pressure {:.3e} (stopped on {}), {} rattlers, {:.3} contacts per non-rattler (gap tolerance {:.1e}), {} collisions in {:.2} s; written to {}",
+            summary.n,
             if D == 3 { "spheres" } else { "discs" },
             summary.packing_fraction,
             summary.reduced_pressure.unwrap_or(f64::NAN),
             summary.stop,
             summary.rattlers,
-            c.mean_contacts,
-            tol,
+            summary.mean_contacts.unwrap_or(f64::NAN),
+            summary.gap_tolerance,
             summary.collisions,
-            wall_seconds,
+            summary.wall_seconds,
             args.output
         );
     }
