@@ -426,3 +426,25 @@ fn run_in<const D: usize>(args: &JammingArgs) -> Result<()> {
         &human,
     )
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn mean_and_standard_error() {
+        assert_eq!(mean_err(&[0.6]), (0.6, None));
+        let (m, e) = mean_err(&[1.0, 2.0, 3.0]);
+        assert!((m - 2.0).abs() < 1e-15);
+        // Sample variance 1, over 3 values: error sqrt(1/3).
+        assert!((e.unwrap() - (1.0f64 / 3.0).sqrt()).abs() < 1e-15);
+    }
+
+    #[test]
+    fn references_only_for_the_standard_systems() {
+        assert_eq!(references(3, 1.0, 0.0).0.len(), 2);
+        assert_eq!(references(2, 1.4, 0.5).0.len(), 1);
+        assert!(references(2, 1.0, 0.0).0.is_empty());
+        assert!(references(3, 1.4, 0.5).1.is_empty());
+    }
+}
