@@ -464,3 +464,85 @@ fn spheres_relax_to_the_3d_maxwell_law_and_follow_enskog() {
     assert_eq!(out.status.code(), Some(2));
     assert_eq!(String::from_utf8_lossy(&out.stderr).lines().count(), 1);
 }
+
+/// Slower compression packs denser (Skoge, Donev, Stillinger and Torquato, PRE 74, 041127
+/// (2006)); the JSON has one row per rate, and the CSV files and the plot are written.
+#[test]
+fn jamming_slower_compression_packs_denser() {
+    for dim in ["3", "2"] {
+        let (v, dir) = experiment(&[
+            "jamming",
+            "--dim",
+            dim,
+            "--n",
+            "100",
+            "--rates",
+            "0.2,0.02",
+            "--seeds",
+            "1",
+            "--pressure",
+            "1e6",
+        ]);
+        assert_eq!(v["experiment"], "jamming");
+        assert_eq!(v["interrupted"], false);
+        let rows = v["rows"].as_array().unwrap();
+        assert_eq!(rows.len(), 2, "{v}");
+        let phi: Vec<f64> = rows
+            .iter()
+            .map(|r| r["packing_fraction"].as_f64().unwrap())
+            .collect();
+        let (lo, hi) = if dim == "3" {
+            (0.55, 0.66)
+        } else {
+            (0.78, 0.86)
+        };
+        for (r, &p) in rows.iter().zip(&phi) {
+            assert!(p > lo && p < hi, "{r}");
+            assert!(r["packing_fraction_err"].is_null(), "{r}");
+            let rattlers = r["rattler_fraction"].as_f64().unwrap();
+            assert!((0.0..=1.0).contains(&rattlers), "{r}");
+            assert_eq!(r["crystallised"].as_f64(), Some(0.0), "{r}");
+            assert!(r["collisions"].as_f64().unwrap() > 0.0, "{r}");
+            assert_eq!(r["runs"].as_array().unwrap().len(), 1, "{r}");
+        }
+        assert_eq!(rows[0]["rate"].as_f64(), Some(0.2));
+        assert!(phi[1] >= phi[0], "{phi:?}");
+        // The slow compression reaches a rigid backbone: contacts near isostatic 2 dim.
+        let z = rows[1]["mean_contacts"].as_f64().unwrap();
+        let d: f64 = dim.parse().unwrap();
+        assert!(z > 2.0 * d - 1.5 && z < 2.0 * d + 0.5, "{}", rows[1]);
+        assert_files(
+            &dir,
+            &[
+                "jamming.csv",
+                "jamming_runs.csv",
+                "jamming.png",
+                "jamming.svg",
+            ],
+        );
+        let csv = std::fs::read_to_string(dir.path().join("jamming.csv")).unwrap();
+        assert!(csv.starts_with("rate,packing_fraction,packing_fraction_err,mean_contacts"));
+        assert_eq!(csv.lines().count(), 3);
+    }
+}
+
+#[test]
+fn jamming_options_are_validated() {
+    for args in [
+        vec!["experiment", "jamming", "--rates", "0"],
+        vec!["experiment", "jamming", "--rates", "2"],
+        vec!["experiment", "jamming", "--seeds", "0"],
+        vec!["experiment", "jamming", "--n", "3"],
+        vec!["experiment", "jamming", "--pressure", "0.5"],
+        vec!["experiment", "jamming", "--fraction-large", "0.3"],
+        vec!["experiment", "jamming", "--size-ratio", "20"],
+    ] {
+        let out = run("edmd", &args, None);
+        assert_eq!(out.status.code(), Some(2), "{args:?}");
+        assert_eq!(
+            String::from_utf8_lossy(&out.stderr).lines().count(),
+            1,
+            "{args:?}"
+        );
+    }
+}

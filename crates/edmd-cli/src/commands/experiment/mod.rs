@@ -7,6 +7,7 @@ pub mod common;
 pub mod demon;
 pub mod diffusion;
 pub mod eos;
+pub mod jamming;
 pub mod maxwell;
 pub mod mfp;
 pub mod reversibility;
@@ -27,6 +28,8 @@ pub enum Experiment {
     Diffusion(diffusion::DiffusionArgs),
     /// The equation of state: Z = PA/(NkT) against packing, with Henderson's formula.
     Eos(eos::EosArgs),
+    /// The jammed packing fraction against the compression rate (Lubachevsky-Stillinger).
+    Jamming(jamming::JammingArgs),
     /// The speed histogram against the 2D Maxwell-Boltzmann (Rayleigh) law.
     Maxwell(maxwell::MaxwellArgs),
     /// Free path and free time histograms; mean free path against density.
@@ -44,6 +47,7 @@ pub fn run(which: &Experiment) -> Result<()> {
         Experiment::Demon(a) => demon::run(a),
         Experiment::Diffusion(a) => diffusion::run(a),
         Experiment::Eos(a) => eos::run(a),
+        Experiment::Jamming(a) => jamming::run(a),
         Experiment::Maxwell(a) => maxwell::run(a),
         Experiment::Mfp(a) => mfp::run(a),
         Experiment::Reversibility(a) => reversibility::run(a),
