@@ -51,6 +51,22 @@ fn value_error(e: impl std::fmt::Display) -> PyErr {
     PyValueError::new_err(e.to_string())
 }
 
+/// A `boundary=` argument: `None`, `'periodic'` or `'walls'`; `what` starts the error message.
+fn parse_boundary(
+    boundary: Option<&str>,
+    what: &str,
+) -> PyResult<Option<edmd_cli::args::BoundaryArg>> {
+    use edmd_cli::args::BoundaryArg;
+    match boundary {
+        None => Ok(None),
+        Some("periodic") => Ok(Some(BoundaryArg::Periodic)),
+        Some("walls") => Ok(Some(BoundaryArg::Walls)),
+        Some(b) => Err(value_error(format!(
+            "{what}: expected 'periodic' or 'walls', got '{b}'"
+        ))),
+    }
+}
+
 /// An `anyhow` error from the CLI's functions: its message in one line, as `edmd` prints it.
 fn cli_error(e: anyhow::Error) -> PyErr {
     PyValueError::new_err(format!("{e:#}").replace('\n', " "))
@@ -840,19 +856,9 @@ fn _generate(
     rule: &str,
     multi: bool,
 ) -> PyResult<PySimulation> {
-    use edmd_cli::args::BoundaryArg;
     use edmd_cli::commands::gen::{make, GenArgs, Generated};
     let dim = edmd_cli::args::parse_dim(&dim.to_string()).map_err(value_error)?;
-    let boundary = match boundary {
-        None => None,
-        Some("periodic") => Some(BoundaryArg::Periodic),
-        Some("walls") => Some(BoundaryArg::Walls),
-        Some(b) => {
-            return Err(value_error(format!(
-                "boundary: expected 'periodic' or 'walls', got '{b}'"
-            )))
-        }
-    };
+    let boundary = parse_boundary(boundary, "boundary")?;
     let opts = options(rule, multi, false)?;
     let args = GenArgs {
         kind: kind.to_string(),

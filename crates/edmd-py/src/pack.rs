@@ -3,7 +3,6 @@
 
 use std::time::{Duration, Instant};
 
-use edmd_cli::args::BoundaryArg;
 use edmd_cli::commands::experiment::common::MAX_N;
 use edmd_cli::commands::pack::{pack as cli_pack, Given, PackArgs, Packed, Start};
 use edmd_core::pack::Status;
@@ -14,7 +13,7 @@ use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyTuple};
 
 use crate::state::State;
-use crate::{value_error, Inner, PySimulation};
+use crate::{parse_boundary, value_error, Inner, PySimulation};
 
 /// How often the compression looks for Ctrl-C (it can only at a velocity rescaling).
 const SIGNAL_EVERY: Duration = Duration::from_millis(50);
@@ -123,16 +122,7 @@ pub fn pack<'py>(
             "pack: seed must be a whole number from 0 to 2^64 - 1, found {seed}"
         ))
     })?;
-    let boundary = match boundary {
-        None => None,
-        Some("periodic") => Some(BoundaryArg::Periodic),
-        Some("walls") => Some(BoundaryArg::Walls),
-        Some(b) => {
-            return Err(value_error(format!(
-                "pack: boundary must be 'periodic' or 'walls', got '{b}'"
-            )))
-        }
-    };
+    let boundary = parse_boundary(boundary, "pack: boundary")?;
     let args = PackArgs {
         file: None,
         output: String::new(),

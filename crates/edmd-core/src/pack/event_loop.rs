@@ -474,11 +474,7 @@ impl<const D: usize> Packer<D> {
         let range = self.nbr_start[i] as usize..self.nbr_start[i + 1] as usize;
         for &(j, code) in &self.nbr[range] {
             let q = &self.parts[j as usize];
-            let rj = q.pos.advanced(q.vel, t - q.time) + self.shifts[code as usize];
-            let sigma0 = 0.5 * (p.d0 + q.d0);
-            if let Some(dt) =
-                growing_contact_time(rj - p.pos, q.vel - p.vel, sigma0 * s, sigma0 * self.g)
-            {
+            if let Some(dt) = self.pair_time(&p, q, self.shifts[code as usize], t, s) {
                 if dt < best {
                     best = dt;
                     next = Next::Pair { j, count: q.count };
@@ -600,11 +596,7 @@ impl<const D: usize> Packer<D> {
                 let ju = j as usize;
                 let q = &self.parts[ju];
                 if ju != i {
-                    let rj = q.pos.advanced(q.vel, t - q.time) + shift;
-                    let sigma0 = 0.5 * (p.d0 + q.d0);
-                    if let Some(dt) =
-                        growing_contact_time(rj - p.pos, q.vel - p.vel, sigma0 * s, sigma0 * self.g)
-                    {
+                    if let Some(dt) = self.pair_time(&p, q, shift, t, s) {
                         if dt < best {
                             best = dt;
                             next = Next::Pair { j, count: q.count };
@@ -616,6 +608,22 @@ impl<const D: usize> Packer<D> {
         }
         self.parts[i].next = next;
         self.queue.set(i, t + best);
+    }
+
+    /// The time from `t` until `p` (at `t`) meets `q` (its image shifted by `shift`), their
+    /// contact growing from the scale `s` at `t`.
+    #[inline(always)]
+    fn pair_time(
+        &self,
+        p: &Particle<D>,
+        q: &Particle<D>,
+        shift: Vector<D>,
+        t: f64,
+        s: f64,
+    ) -> Option<f64> {
+        let rj = q.pos.advanced(q.vel, t - q.time) + shift;
+        let sigma0 = 0.5 * (p.d0 + q.d0);
+        growing_contact_time(rj - p.pos, q.vel - p.vel, sigma0 * s, sigma0 * self.g)
     }
 
     fn predict_all(&mut self) {
