@@ -304,17 +304,6 @@ pub fn run_checked<const D: usize>(sim: &mut Simulation<D>, events: u64) -> u64 
         last: sim.time(),
         counts: [0; 4],
     };
-    // Known and open (RELIABILITY.md): a contact predicted from a distance r much larger than
-    // the contact distance sigma is found to within about eps (r / sigma)^2 of sigma, because
-    // the contact-time kernel's discriminant loses digits to cancellation. r is at most the
-    // reach of the 3^D cells around a disc, so the check allows 16 eps (reach / sigma_min)^2
-    // on top of the engine's tolerance until the kernel is fixed.
-    let dims = sim.grid_dims();
-    let reach2: f64 = (0..D)
-        .map(|a| (2.0 * sim.sim_box().lengths[a] / f64::from(dims[a])).powi(2))
-        .sum();
-    let sigma_min = 2.0 * (0..sim.len()).map(|i| sim.radius(i)).fold(f64::INFINITY, f64::min);
-    let cancellation = 16.0 * f64::EPSILON * reach2 / (sigma_min * sigma_min);
     let mut done = 0;
     while done < events {
         let chunk = (events - done).min(97);
@@ -357,7 +346,7 @@ pub fn run_checked<const D: usize>(sim: &mut Simulation<D>, events: u64) -> u64 
                 "momentum {p:?} drifted from {p0:?} after {done} events"
             );
         }
-        let report = sim.overlaps(OVERLAP_TOLERANCE + cancellation);
+        let report = sim.overlaps(OVERLAP_TOLERANCE);
         assert_eq!(report.count, 0, "overlap after {done} events: {report:?}");
         let outside = sim.discs_outside(OVERLAP_TOLERANCE);
         assert!(

@@ -86,6 +86,21 @@ impl<const D: usize> Vector<D> {
         self.dot(self)
     }
 
+    /// Squared length of the wedge (in 3D cross) product, `|self|^2 |o|^2 - (self.o)^2` by
+    /// Lagrange's identity, summed from the components `self_a o_b - self_b o_a` so that it keeps
+    /// its digits when the two vectors are nearly parallel (the difference form cancels).
+    #[inline(always)]
+    pub fn wedge2(self, o: Vector<D>) -> f64 {
+        let mut s = 0.0;
+        for a in 0..D {
+            for b in a + 1..D {
+                let w = self.0[a] * o.0[b] - self.0[b] * o.0[a];
+                s += w * w;
+            }
+        }
+        s
+    }
+
     /// `self + v * t`, the straight-line motion used everywhere.
     #[inline(always)]
     pub fn advanced(self, v: Vector<D>, t: f64) -> Vector<D> {

@@ -381,9 +381,12 @@ fn multi_disc_pinch_at_an_extreme_mass_ratio_stops_the_run_with_a_reason() {
 
 /// Found by fuzzing (`engine_3d`): two small spheres (radii 6.7e-5 and 1.5e-4) bouncing along
 /// a line between walls 0.84 apart at speeds up to 19. By t = 25 their contacts were found to
-/// within 4.6e-13, which is 2.1e-9 of the contact distance: the rounding of absolute event
-/// times (`eps |v| t`), not a missed collision, and beyond the relative tolerance alone. The
-/// overlap check now allows for it (`OVERLAP_ROUNDING`, documented with `OVERLAP_TOLERANCE`).
+/// within 4.6e-13, which is 2.1e-9 of the contact distance. Most of that was the contact-time
+/// kernel's discriminant losing digits for a pair predicted from afar (fixed: it is now
+/// `a sigma^2 - |dr ^ dv|^2`, `predict/disc_disc.rs`; 2000 events then reach 3.2e-10). What
+/// remains is the rounding of absolute event times (`eps |v| t`), which grows with the clock:
+/// 9.5e-9 at t = 1155, beyond the relative tolerance alone, and within the overlap check's
+/// allowance for it (`OVERLAP_ROUNDING`, documented with `OVERLAP_TOLERANCE`).
 #[test]
 fn small_fast_spheres_at_late_times_stay_within_the_rounding_allowance() {
     let sphere = |x: f64, vx: f64, mass: f64, radius: f64| Disc {
@@ -413,7 +416,7 @@ fn small_fast_spheres_at_late_times_stay_within_the_rounding_allowance() {
     let mut sim = Simulation::new(&[a, b], sim_box, Options::default()).unwrap();
     let sigma = a.radius + b.radius;
     let mut deepest: f64 = 0.0;
-    for _ in 0..2000 {
+    for _ in 0..40000 {
         sim.step(f64::INFINITY).unwrap();
         let d = sim.discs();
         deepest = deepest.max(1.0 - (d[1].pos[0] - d[0].pos[0]).abs() / sigma);
@@ -421,7 +424,7 @@ fn small_fast_spheres_at_late_times_stay_within_the_rounding_allowance() {
         assert_eq!(report.count, 0, "at t = {}: {report:?}", sim.time());
     }
     // The allowance is what keeps this run clean: the relative tolerance alone is exceeded.
-    assert!(deepest > OVERLAP_TOLERANCE, "{deepest:e}");
+    assert!(deepest > OVERLAP_TOLERANCE, "{deepest:e} at {}", sim.time());
     assert!(deepest < 1e-8, "{deepest:e}");
 }
 
