@@ -91,14 +91,25 @@ impl<const D: usize> Vector<D> {
     /// its digits when the two vectors are nearly parallel (the difference form cancels).
     #[inline(always)]
     pub fn wedge2(self, o: Vector<D>) -> f64 {
-        let mut s = 0.0;
-        for a in 0..D {
-            for b in a + 1..D {
-                let w = self.0[a] * o.0[b] - self.0[b] * o.0[a];
-                s += w * w;
+        let (p, q) = (&self.0, &o.0);
+        let w = |a: usize, b: usize| p[a] * q[b] - p[b] * q[a];
+        match D {
+            1 => 0.0,
+            2 => w(0, 1) * w(0, 1),
+            3 => {
+                let (x, y, z) = (w(1, 2), w(2, 0), w(0, 1));
+                x * x + y * y + z * z
+            }
+            _ => {
+                let mut s = 0.0;
+                for a in 0..D {
+                    for b in a + 1..D {
+                        s += w(a, b) * w(a, b);
+                    }
+                }
+                s
             }
         }
-        s
     }
 
     /// `self + v * t`, the straight-line motion used everywhere.

@@ -7,5 +7,5 @@ pub mod barrier;
 pub mod disc_disc;
 pub mod interval;
 
-pub use disc_disc::{contact_time_or_inf, time_to_contact};
+pub use disc_disc::{contact_time, contact_time_or_inf, time_to_contact, FAR_CONTACT_RATIO2};
 pub use interval::{interval_exit, interval_exit_or_inf, Side};

@@ -98,6 +98,9 @@ pub struct Simulation<const D: usize = 2> {
     image: Vec<[i32; D]>,
     queue: CalendarQueue,
     grid: CellGrid<D>,
+    /// Whether the grid's candidates can be far enough for contact times to need the far form
+    /// (`predict::far_contacts`).
+    far_contacts: bool,
     /// Time of the last processed event: the reference time of predictions.
     event_time: f64,
     /// Observation time, `>= event_time`.
@@ -244,6 +247,11 @@ impl<const D: usize> Simulation<D> {
             discs.len(),
             if discs.is_empty() { 1.0 } else { max_diameter },
         )?;
+        let min_diameter = discs
+            .iter()
+            .map(|d| 2.0 * d.radius)
+            .fold(f64::INFINITY, f64::min);
+        let far_contacts = predict::far_contacts(&grid, &sim_box, min_diameter);
         let n = discs.len();
         let mut sim = Simulation {
             sim_box,
@@ -255,6 +263,7 @@ impl<const D: usize> Simulation<D> {
             image: vec![[0; D]; n],
             queue: new_queue::<D>(n),
             grid,
+            far_contacts,
             event_time: 0.0,
             now: 0.0,
             stats: Stats::default(),

@@ -641,6 +641,11 @@ impl<const D: usize> Simulation<D> {
             queue.set(i, t);
         }
         queue.end_bulk(event_time);
+        let min_diameter = body
+            .iter()
+            .map(|b| 2.0 * b.radius)
+            .fold(f64::INFINITY, f64::min);
+        let far_contacts = super::predict::far_contacts(&grid, &sim_box, min_diameter);
         let mut sim = Simulation {
             sim_box,
             rule,
@@ -651,6 +656,7 @@ impl<const D: usize> Simulation<D> {
             image,
             queue,
             grid,
+            far_contacts,
             event_time,
             now,
             stats,

@@ -1,10 +1,12 @@
 //! Prediction: a disc's earliest event (cell exit, walls, barriers, the discs around it).
 
+use crate::cells::CellGrid;
 use crate::events::{Pending, Side};
 use crate::math::Vector;
 use crate::predict::barrier::{time_to_barrier, time_to_doorway, Contact};
-use crate::predict::{contact_time_or_inf, interval_exit};
+use crate::predict::{contact_time, interval_exit, FAR_CONTACT_RATIO2};
 use crate::schedule::EventQueue;
+use crate::state::SimBox;
 
 use super::{Simulation, NO_PARTNER};
 
@@ -88,6 +90,23 @@ impl<const D: usize> Simulation<D> {
     /// Finds disc `i`'s earliest event from the last event time on and schedules it.
     #[inline(always)]
     pub(super) fn predict(&mut self, i: usize) {
+        if self.far_contacts {
+            self.predict_far(i)
+        } else {
+            self.predict_with::<false>(i)
+        }
+    }
+
+    /// [`Self::predict`] with contact times in the far form, for systems whose candidates can
+    /// be far apart ([`far_contacts`]): outlined, as such systems are few and small.
+    #[inline(never)]
+    fn predict_far(&mut self, i: usize) {
+        self.predict_with::<true>(i)
+    }
+
+    /// [`Self::predict`], the contact times in the far form when `FAR`.
+    #[inline(always)]
+    fn predict_with<const FAR: bool>(&mut self, i: usize) {
         let t0 = self.event_time;
         self.body[i].advance_to(t0);
         let bi = self.body[i];
@@ -132,7 +151,8 @@ impl<const D: usize> Simulation<D> {
         let pair = |j: usize, shift: Vector<D>, best_t: &mut f64, partner: &mut u32| {
             let bj = &body[j];
             let pj = bj.position_at(t0) + shift;
-            let t = t0 + contact_time_or_inf(pj - bi.pos, bj.vel - bi.vel, bi.radius + bj.radius);
+            let t =
+                t0 + contact_time::<D, FAR>(pj - bi.pos, bj.vel - bi.vel, bi.radius + bj.radius);
             // Disc `i` itself is at `dr = 0` (or a whole box length: a periodic image), with
             // `dv = 0`, which never meets (`b = 0`): no test needed.
             let keep = ((t < *best_t) as u32).wrapping_neg();
@@ -159,4 +179,21 @@ impl<const D: usize> Simulation<D> {
         self.body[i].pending = best;
         self.queue.set(i, best_t);
     }
+}
+
+/// Whether a candidate of the grid's scan can be farther than `sqrt(FAR_CONTACT_RATIO2)`
+/// contact distances (the smallest, `min_diameter`) from the disc predicted: it lies at most
+/// two cells away along each axis. Then the contact times are computed in the far form
+/// (`predict/disc_disc.rs`): the textbook form would find such pairs late by about
+/// `eps (reach / sigma)^2` of the contact distance.
+pub(super) fn far_contacts<const D: usize>(
+    grid: &CellGrid<D>,
+    sim_box: &SimBox<D>,
+    min_diameter: f64,
+) -> bool {
+    let dims = grid.dims();
+    let reach2: f64 = (0..D)
+        .map(|a| (2.0 * sim_box.lengths[a] / f64::from(dims[a])).powi(2))
+        .sum();
+    !(reach2 <= FAR_CONTACT_RATIO2 * min_diameter * min_diameter)
 }
