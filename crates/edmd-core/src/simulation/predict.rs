@@ -195,5 +195,5 @@ pub(super) fn far_contacts<const D: usize>(
     let reach2: f64 = (0..D)
         .map(|a| (2.0 * sim_box.lengths[a] / f64::from(dims[a])).powi(2))
         .sum();
-    !(reach2 <= FAR_CONTACT_RATIO2 * min_diameter * min_diameter)
+    reach2 > FAR_CONTACT_RATIO2 * min_diameter * min_diameter
 }
