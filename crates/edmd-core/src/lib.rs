@@ -24,6 +24,7 @@
 pub mod cells;
 pub mod error;
 pub mod events;
+pub(crate) mod frame;
 pub(crate) mod hint;
 pub mod math;
 pub mod measure;
