@@ -136,12 +136,14 @@ pub fn pack<'py>(
         size_ratio,
         fraction_large,
         polydispersity,
-        growth_rate,
-        pressure,
+        growth_rate: Some(growth_rate),
+        pressure: Some(pressure),
         packing,
         boundary,
-        seed,
+        seed: Some(seed),
         json: false,
+        checkpoint: None,
+        checkpoint_every: None,
     };
     let given = start.map(|s| {
         let (start, barriers) = match &s.inner {
