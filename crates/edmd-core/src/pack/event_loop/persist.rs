@@ -248,10 +248,10 @@ impl<const D: usize> Packer<D> {
         let (mv2, m) = parts.iter().fold((0.0, 0.0), |(mv2, m), p| {
             (mv2 + p.mass * p.vel.norm2(), m + p.mass)
         });
-        if !((mv2 / m - 1.0).abs() <= 1e-6) {
+        let ms = mv2 / m;
+        if ms.is_nan() || (ms - 1.0).abs() > 1e-6 {
             return bad(format!(
-                "velocities of mean square {} (mass-weighted) where the rescaling leaves 1",
-                mv2 / m
+                "velocities of mean square {ms} (mass-weighted) where the rescaling leaves 1"
             ));
         }
         let mut cells = [0usize; D];
