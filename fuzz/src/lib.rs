@@ -314,7 +314,10 @@ pub fn run_checked<const D: usize>(sim: &mut Simulation<D>, events: u64) -> u64 
     let reach2: f64 = (0..D)
         .map(|a| (2.0 * sim.sim_box().lengths[a] / f64::from(dims[a])).powi(2))
         .sum();
-    let sigma_min = 2.0 * (0..sim.len()).map(|i| sim.radius(i)).fold(f64::INFINITY, f64::min);
+    let sigma_min = 2.0
+        * (0..sim.len())
+            .map(|i| sim.radius(i))
+            .fold(f64::INFINITY, f64::min);
     let cancellation = 16.0 * f64::EPSILON * reach2 / (sigma_min * sigma_min);
     let mut done = 0;
     while done < events {

@@ -530,7 +530,11 @@ fn pack_checkpoint_with_a_particle_far_faster_than_the_rescaling_leaves_is_refus
     // accumulators, two pressure flags, the count; then particle 0: position, velocity.
     let vel_x = 18 + 33 + 8 + 1 + 48 + 32 + 2 + 8 + 16;
     // The exponent byte of its x velocity: times 2^(16 * 16).
-    let bad = patched(&good, vel_x + 7, good[HEADER + vel_x + 7].wrapping_add(0x10));
+    let bad = patched(
+        &good,
+        vel_x + 7,
+        good[HEADER + vel_x + 7].wrapping_add(0x10),
+    );
     match Packer::<2>::from_checkpoint(&bad) {
         Err(Error::Checkpoint(m)) => assert!(m.contains("mean square"), "{m}"),
         other => panic!("{:?}", other.err()),
