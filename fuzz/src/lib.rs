@@ -8,6 +8,7 @@
 //! whether a system is clear of both.
 
 use arbitrary::{Result, Unstructured};
+use edmd_core::pack::Packer;
 use edmd_core::{
     Barrier, Boundary, CollisionRule, Demon, Disc, EventKind, EventRecord, MultiContact, Observer,
     Options, OverlapPolicy, SimBox, Simulation, Vector, OVERLAP_TOLERANCE,
@@ -516,6 +517,70 @@ fn accepted<const D: usize>(bytes: &[u8], mut sim: Simulation<D>, extra: &[u8]) 
     assert!(copy.to_checkpoint(extra) == again);
 }
 
+/// A packing checkpoint file around `payload`, as `Packer::checkpoint` frames it (the run
+/// checkpoint's frame with the magic number `EDMDPACK`).
+pub fn frame_pack_checkpoint(dim: u32, payload: &[u8]) -> Vec<u8> {
+    let mut out = Vec::with_capacity(CHECKPOINT_HEADER + payload.len() + 4);
+    out.extend_from_slice(edmd_core::pack::PACK_MAGIC);
+    out.extend_from_slice(&edmd_core::pack::PACK_FORMAT_VERSION.to_le_bytes());
+    out.extend_from_slice(&dim.to_le_bytes());
+    out.extend_from_slice(&(payload.len() as u64).to_le_bytes());
+    out.extend_from_slice(payload);
+    let crc = crc32(&out);
+    out.extend_from_slice(&crc.to_le_bytes());
+    out
+}
+
+/// The whole check for one packing checkpoint file: the frame and the dimension read without a
+/// panic, and agree; an accepted checkpoint gives back the same bytes, and (with tame options)
+/// its compression runs for up to three measured synchronisations, whose checkpoint reads back
+/// to the same bytes again.
+pub fn pack_checkpoint(bytes: &[u8]) {
+    let dim = edmd_core::pack::pack_checkpoint_dim(bytes);
+    let two = Packer::<2>::from_checkpoint(bytes);
+    let three = Packer::<3>::from_checkpoint(bytes);
+    match dim {
+        Ok(2) => {
+            assert!(three.is_err(), "a 2D checkpoint read as 3D");
+            if let Ok((p, extra)) = two {
+                pack_accepted(bytes, p, &extra);
+            }
+        }
+        Ok(3) => {
+            assert!(two.is_err(), "a 3D checkpoint read as 2D");
+            if let Ok((p, extra)) = three {
+                pack_accepted(bytes, p, &extra);
+            }
+        }
+        Ok(d) => panic!("pack_checkpoint_dim gave {d}"),
+        Err(_) => assert!(two.is_err() && three.is_err(), "frame refused, body read"),
+    }
+}
+
+fn pack_accepted<const D: usize>(bytes: &[u8], packer: Packer<D>, extra: &[u8]) {
+    assert!(
+        packer.checkpoint(extra) == bytes,
+        "an accepted packing checkpoint does not round-trip"
+    );
+    // A mutated interval of up to 10^6 collisions per particle, or a growth so slow that
+    // nothing happens for ages, is valid but takes long: not run.
+    let o = packer.options();
+    if o.collisions_per_rescale > 100.0 || o.growth_rate < 1e-3 {
+        return;
+    }
+    let mut k = 0;
+    let mut last = None;
+    let _ = packer.run_with(|pk| {
+        k += 1;
+        last = Some(pk.checkpoint(extra));
+        k < 3
+    });
+    if let Some(again) = last {
+        let (copy, _) = Packer::<D>::from_checkpoint(&again).expect("checkpoint after a run");
+        assert!(copy.checkpoint(extra) == again);
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -576,6 +641,59 @@ mod tests {
                     put(3, sim.to_checkpoint(b""));
                 }
             }
+        }
+    }
+
+    /// Writes the packing checkpoint seed corpus (payloads after a mode byte): run with
+    /// `cargo test --manifest-path fuzz/Cargo.toml -- --ignored write_pack_seed_corpus`.
+    #[test]
+    #[ignore]
+    fn write_pack_seed_corpus() {
+        use edmd_core::pack::{random_start, PackOptions, PackSizes};
+        let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/corpus/read_pack_checkpoint");
+        std::fs::create_dir_all(dir).unwrap();
+        let mut k = 0;
+        let mut put = |dim: u8, ck: Vec<u8>| {
+            let mut seed = vec![dim - 2];
+            seed.extend_from_slice(&ck[CHECKPOINT_HEADER..ck.len() - 4]);
+            std::fs::write(format!("{dir}/seed-{k:02}"), seed).unwrap();
+            k += 1;
+        };
+        let options = PackOptions {
+            max_pressure: 1e6,
+            ..PackOptions::default()
+        };
+        let binary = PackSizes::Binary {
+            size_ratio: 1.4,
+            fraction_large: 0.5,
+        };
+        for boundary in [Boundary::Periodic, Boundary::Walls] {
+            // At the start, and at the first synchronisation with neighbour lists.
+            let (discs, sim_box) = random_start::<2>(12, binary, boundary, 1).unwrap();
+            let p = Packer::new(&discs, sim_box, options).unwrap();
+            put(2, p.checkpoint(b"seed"));
+            let mut got = None;
+            let _ = p.run_with(|pk| {
+                if pk.neighbour_lists() {
+                    got = Some(pk.checkpoint(b""));
+                }
+                got.is_none()
+            });
+            // (Twelve discs between walls jam before the lists come on.)
+            if let Some(ck) = got {
+                put(2, ck);
+            }
+            let sizes = PackSizes::Polydisperse { std: 0.1 };
+            let (discs, sim_box) = random_start::<3>(27, sizes, boundary, 2).unwrap();
+            let p = Packer::new(&discs, sim_box, options).unwrap();
+            let mut syncs = 0;
+            let mut got = None;
+            let _ = p.run_with(|pk| {
+                syncs += 1;
+                got = Some(pk.checkpoint(b""));
+                syncs < 4
+            });
+            put(3, got.unwrap());
         }
     }
 

@@ -241,3 +241,49 @@ def test_ctrl_c_interrupts_a_long_compression():
     # And the next compression runs as usual.
     _, summary = edmd.pack(n=100, dim=3, packing=0.3, seed=1)
     assert summary["stop"] == "packing"
+
+
+def test_a_checkpointed_compression_resumes_bit_for_bit(tmp_path, edmd_cli):
+    whole, s_whole = edmd.pack(seed=5, **FAST)
+    ck = tmp_path / "pack.ck"
+    # At every rescaling: the last checkpoint is the last rescaling before the stop.
+    edmd.pack(seed=5, checkpoint=ck, checkpoint_every=0, **FAST)
+    assert ck.read_bytes()[:8] == b"EDMDPACK"
+    sim, summary = edmd.pack(resume=ck, checkpoint=ck)
+    assert same_summary(summary, s_whole), (summary, s_whole)
+    assert np.array_equal(sim.positions, whole.positions)
+    assert np.array_equal(sim.velocities, whole.velocities)
+    assert np.array_equal(sim.radii, whole.radii)
+    # `edmd pack` continues Python's checkpoint to the very same file.
+    out = tmp_path / "cli.txt"
+    cli = run_cli(edmd_cli, [str(ck), "-o", str(out)])
+    assert same_summary({k: v for k, v in cli.items() if k != "output"}, s_whole)
+    mine = tmp_path / "py.txt"
+    whole.write(mine)
+    assert mine.read_bytes() == out.read_bytes()
+    # What the checkpoint carries cannot be given again; other files are not checkpoints.
+    for kwargs in (dict(pressure=1e7), dict(seed=2), dict(n=150), dict(growth_rate=0.01)):
+        with pytest.raises(ValueError, match="carried by the checkpoint"):
+            edmd.pack(resume=ck, **kwargs)
+    with pytest.raises(ValueError, match="not an edmd packing checkpoint"):
+        edmd.pack(resume=mine)
+    with pytest.raises(ValueError, match="start or a checkpoint"):
+        edmd.pack(resume=ck, start=whole)
+    with pytest.raises(ValueError, match="checkpoint_every"):
+        edmd.pack(checkpoint_every=1.0, **FAST)
+
+
+def test_ctrl_c_writes_a_checkpoint_and_leaves_no_temporary_file(tmp_path):
+    ck = tmp_path / "pack.ck"
+    timer = threading.Timer(1.0, lambda: os.kill(os.getpid(), signal.SIGINT))
+    timer.start()
+    try:
+        edmd.pack(n=4000, dim=3, seed=1, checkpoint=ck, checkpoint_every=1e9)
+    except KeyboardInterrupt:
+        pass
+    else:
+        raise AssertionError("the compression was not interrupted")
+    finally:
+        timer.cancel()
+    assert ck.read_bytes()[:8] == b"EDMDPACK"
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["pack.ck"]

@@ -221,6 +221,15 @@ pub fn parse_positive(s: &str) -> Result<f64, String> {
     Ok(x)
 }
 
+/// A number `>= 0`.
+pub fn parse_non_negative(s: &str) -> Result<f64, String> {
+    let x = parse_number(s)?;
+    if x < 0.0 {
+        return Err(format!("must be >= 0, found {s}"));
+    }
+    Ok(x)
+}
+
 /// A count `>= 1`.
 pub fn parse_count(s: &str) -> Result<usize, String> {
     match s.trim().parse::<usize>() {

@@ -24,6 +24,7 @@
 pub mod cells;
 pub mod error;
 pub mod events;
+pub(crate) mod frame;
 pub(crate) mod hint;
 pub mod math;
 pub mod measure;
@@ -43,7 +44,7 @@ pub use observer::{CollisionCounter, Observer};
 pub use resolve::CollisionRule;
 pub use simulation::{
     checkpoint_dim, is_checkpoint, MultiContact, Options, OverlapPolicy, OverlapReport, Simulation,
-    Stall, StallCause, Stats, CHECKPOINT_VERSION, MAX_BARRIERS, OVERLAP_ROUNDING,
+    Stall, StallCause, Stats, CHECKPOINT_MAGIC, CHECKPOINT_VERSION, MAX_BARRIERS, OVERLAP_ROUNDING,
     OVERLAP_TOLERANCE,
 };
 pub use state::{Barrier, Boundary, Colour, Demon, Disc, SimBox, System};

@@ -543,3 +543,33 @@ fn a_contact_predicted_from_afar_is_found_at_contact() {
     // With the textbook form: -2.0e-9.
     assert!(gap.abs() < 1e-12, "{gap:e}");
 }
+
+/// Found by fuzzing (`read_pack_checkpoint`,
+/// `fuzz/corpus/read_pack_checkpoint/read_pack_checkpoint-fast-particle`): a packing checkpoint
+/// whose particle had a velocity of 1e86 was accepted, and its compression crossed cells
+/// 10^86 times a unit of time: a hang. A checkpoint is taken just after the velocities are
+/// rescaled to an rms speed of 1, so one whose mass-weighted mean square speed is not 1 (to
+/// rounding) is now refused.
+#[test]
+fn pack_checkpoint_with_a_particle_far_faster_than_the_rescaling_leaves_is_refused() {
+    use edmd_core::pack::{random_start, PackOptions, PackSizes, Packer};
+    let (discs, sim_box) =
+        random_start::<2>(10, PackSizes::MONODISPERSE, Boundary::Periodic, 1).unwrap();
+    let good = Packer::new(&discs, sim_box, PackOptions::default())
+        .unwrap()
+        .checkpoint(b"");
+    Packer::<2>::from_checkpoint(&good).unwrap();
+    // Payload: box (2 x 9), options (8 + 8 + 1 + 8 + 8), scale, lists flag, six counters, four
+    // accumulators, two pressure flags, the count; then particle 0: position, velocity.
+    let vel_x = 18 + 33 + 8 + 1 + 48 + 32 + 2 + 8 + 16;
+    // The exponent byte of its x velocity: times 2^(16 * 16).
+    let bad = patched(
+        &good,
+        vel_x + 7,
+        good[HEADER + vel_x + 7].wrapping_add(0x10),
+    );
+    match Packer::<2>::from_checkpoint(&bad) {
+        Err(Error::Checkpoint(m)) => assert!(m.contains("mean square"), "{m}"),
+        other => panic!("{:?}", other.err()),
+    }
+}

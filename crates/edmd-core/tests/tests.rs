@@ -9,6 +9,7 @@ mod generators;
 mod invariants;
 mod naive_reference;
 mod pack;
+mod pack_checkpoint;
 mod physics;
 mod stall;
 mod three_d;

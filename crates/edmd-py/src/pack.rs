@@ -1,10 +1,13 @@
 //! `edmd.pack`: the compression of `edmd pack`, by the command's own function
 //! (`edmd_cli::commands::pack::pack`), so the Python packing is the command's bit for bit.
 
+use std::path::PathBuf;
 use std::time::{Duration, Instant};
 
 use edmd_cli::commands::experiment::common::MAX_N;
-use edmd_cli::commands::pack::{pack as cli_pack, Given, PackArgs, Packed, Start};
+use edmd_cli::commands::pack::{
+    pack as cli_pack, read_pack_checkpoint, Given, PackArgs, Packed, Start,
+};
 use edmd_core::pack::Status;
 use edmd_core::{Options, Simulation};
 use edmd_io::princeton::ColumnOrder;
@@ -32,6 +35,8 @@ fn message(e: anyhow::Error) -> PyErr {
         ("--boundary", "boundary"),
         ("--dim", "dim"),
         ("--n", "n"),
+        ("--seed", "seed"),
+        ("--checkpoint", "checkpoint"),
     ] {
         m = m.replace(flag, name);
     }
@@ -54,22 +59,35 @@ fn simulation<const D: usize>(packing: &edmd_core::pack::Packing<D>) -> PyResult
 /// (a fraction of a second apart at the default growth rate; with slow growth, at low packing
 /// fractions, seconds for many particles).
 ///
+/// A long compression can be checkpointed and continued, bit for bit, as with
+/// `edmd pack --checkpoint`: `checkpoint=PATH` writes its whole state there (replaced
+/// atomically) every `checkpoint_every` wall-clock seconds and when Ctrl-C stops it, and
+/// `resume=PATH` continues from such a file (written by Python or by `edmd pack`) to the packing
+/// and summary of the compression never stopped.
+///
 /// Args:
 ///     n: number of particles of a random start.
 ///     dim: 2 (discs) or 3 (spheres) for a random start; 3 when None.
 ///     growth_rate: G in (0, 1]: the largest diameter grows as dD/dt = G v_rms. Slower
-///         growth gives denser packings.
-///     pressure: stop when the reduced pressure PV/(NkT) passes this (above 1).
+///         growth gives denser packings. 0.02 when None.
+///     pressure: stop when the reduced pressure PV/(NkT) passes this (above 1); 1e12 when
+///         None.
 ///     packing: stop exactly at this packing fraction (below jamming: dense fluids, glasses).
 ///     size_ratio: bidisperse random start: diameter ratio large/small.
 ///     fraction_large: bidisperse: number fraction of large particles (0.5 when None).
 ///     polydispersity: diameters uniform with this relative standard deviation (mean 1).
 ///     boundary: "periodic" (default) or "walls", for a random start.
-///     seed: the same seed gives the same packing.
+///     seed: the same seed gives the same packing; 1 when None.
 ///     start: a Simulation to compress from its current positions, radii (the initial sizes,
 ///         which all grow by one factor), masses and velocities (thermal ones from `seed` if
 ///         all are at rest), instead of a random start. Not with n, dim, size_ratio,
 ///         fraction_large, polydispersity or boundary.
+///     checkpoint: a file to write checkpoints of the compression to.
+///     checkpoint_every: wall-clock seconds between checkpoints, each taken at the first
+///         velocity rescaling after the interval (0: at every rescaling); 600 when None.
+///     resume: a packing checkpoint file to continue, instead of a start. Every option that
+///         decides the compression (n, dim, the sizes, boundary, growth_rate, pressure,
+///         packing, seed) comes from it and must be left out.
 ///
 /// Returns:
 ///     (sim, summary): the packing as a Simulation at time 0 ready to run (elastic
@@ -87,21 +105,24 @@ fn simulation<const D: usize>(packing: &edmd_core::pack::Packing<D>) -> PyResult
 /// >>> summary["packing_fraction"]
 /// >>> sim.run(until=1.0)
 #[pyfunction]
-#[pyo3(signature = (n=None, *, dim=None, growth_rate=0.02, pressure=1e12, packing=None, size_ratio=None, fraction_large=None, polydispersity=None, boundary=None, seed=1, start=None))]
+#[pyo3(signature = (n=None, *, dim=None, growth_rate=None, pressure=None, packing=None, size_ratio=None, fraction_large=None, polydispersity=None, boundary=None, seed=None, start=None, checkpoint=None, checkpoint_every=None, resume=None))]
 #[allow(clippy::too_many_arguments)]
 pub fn pack<'py>(
     py: Python<'py>,
     n: Option<i128>,
     dim: Option<i128>,
-    growth_rate: f64,
-    pressure: f64,
+    growth_rate: Option<f64>,
+    pressure: Option<f64>,
     packing: Option<f64>,
     size_ratio: Option<f64>,
     fraction_large: Option<f64>,
     polydispersity: Option<f64>,
     boundary: Option<&str>,
-    seed: i128,
+    seed: Option<i128>,
     start: Option<PyRef<'py, PySimulation>>,
+    checkpoint: Option<PathBuf>,
+    checkpoint_every: Option<f64>,
+    resume: Option<PathBuf>,
 ) -> PyResult<Bound<'py, PyTuple>> {
     let n = match n {
         None => None,
@@ -117,17 +138,36 @@ pub fn pack<'py>(
         Some(d @ (2 | 3)) => Some(d as usize),
         Some(d) => return Err(value_error(format!("pack: dim must be 2 or 3, found {d}"))),
     };
-    let seed = u64::try_from(seed).map_err(|_| {
-        value_error(format!(
-            "pack: seed must be a whole number from 0 to 2^64 - 1, found {seed}"
-        ))
-    })?;
+    let seed = seed
+        .map(|seed| {
+            u64::try_from(seed).map_err(|_| {
+                value_error(format!(
+                    "pack: seed must be a whole number from 0 to 2^64 - 1, found {seed}"
+                ))
+            })
+        })
+        .transpose()?;
+    if let Some(s) = checkpoint_every {
+        if s.is_nan() || s < 0.0 {
+            return Err(value_error(format!(
+                "pack: checkpoint_every must be a number of seconds >= 0, found {s}"
+            )));
+        }
+        if checkpoint.is_none() {
+            return Err(value_error("pack: checkpoint_every goes with checkpoint"));
+        }
+    }
+    if resume.is_some() && start.is_some() {
+        return Err(value_error(
+            "pack: give a start or a checkpoint to resume, not both",
+        ));
+    }
     let boundary = parse_boundary(boundary, "pack: boundary")?;
     let args = PackArgs {
         file: None,
         output: String::new(),
         // A random start is 3D unless told (the command's default is 2D).
-        dim: if start.is_none() {
+        dim: if start.is_none() && resume.is_none() {
             dim.or(Some(3))
         } else {
             dim
@@ -142,7 +182,25 @@ pub fn pack<'py>(
         boundary,
         seed,
         json: false,
+        checkpoint,
+        checkpoint_every,
     };
+    let resumed = match &resume {
+        Some(path) => match read_pack_checkpoint(path).map_err(message)? {
+            Some(bytes) => Some(bytes),
+            None => {
+                return Err(value_error(format!(
+                    "{}: not an edmd packing checkpoint (no EDMDPACK magic number)",
+                    path.display()
+                )))
+            }
+        },
+        None => None,
+    };
+    let resume_name = resume
+        .as_ref()
+        .map(|p| p.display().to_string())
+        .unwrap_or_default();
     let given = start.map(|s| {
         let (start, barriers) = match &s.inner {
             Inner::Two(s) => (
@@ -161,6 +219,15 @@ pub fn pack<'py>(
             barriers,
         }
     });
+    let given = match resumed {
+        Some(bytes) => Some(Given {
+            name: &resume_name,
+            what: &resume_name,
+            start: Start::Checkpoint(bytes),
+            barriers: false,
+        }),
+        None => given,
+    };
     // Ctrl-C: the compression looks at Python's signals now and then (at a rescaling, with
     // the GIL taken for a moment) and stops when one raised.
     let mut interrupt: Option<PyErr> = None;

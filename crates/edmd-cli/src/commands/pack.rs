@@ -1,35 +1,41 @@
 //! `edmd pack`: Lubachevsky-Stillinger compression to a jammed packing (or to a packing
-//! fraction below jamming), from a random start or a file. The engine is
-//! `edmd_core::pack`; this command validates the options, shows the progress, writes the
-//! packing in the Princeton format (readable by `edmd run`) and a summary.
+//! fraction below jamming), from a random start or a file, or continued from a checkpoint.
+//! The engine is `edmd_core::pack`; this command validates the options, shows the progress,
+//! writes checkpoints (`--checkpoint`, every `--checkpoint-every` seconds and on Ctrl-C),
+//! writes the packing in the Princeton format (readable by `edmd run`) and a summary.
 
 use std::io::IsTerminal;
-use std::path::Path;
-use std::time::Instant;
+use std::path::{Path, PathBuf};
+use std::time::{Duration, Instant};
 
 use anyhow::Result;
 use clap::Args;
 use edmd_core::pack::{
-    contacts, gap_tolerance, random_start, PackOptions, PackSizes, Packer, Packing, Status,
+    contacts, gap_tolerance, random_start, PackOptions, PackSizes, Packer, Packing, Status, Stop,
 };
 use edmd_core::setup::thermal_velocities;
 use edmd_core::{Boundary, Disc, SimBox, Vector};
 use edmd_io::princeton::ColumnOrder;
 use edmd_io::Format;
 use rand::SeedableRng;
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 use crate::args::BoundaryArg;
 use crate::commands::experiment::common::MAX_N;
+use crate::commands::run::{read_file_starting, read_magic, write_checkpoint};
 use crate::input::{load_any, read_text};
 use crate::output::{check_distinct, AtomicFile};
 use crate::user_error;
+
+/// Default wall-clock seconds between two checkpoints.
+pub const CHECKPOINT_EVERY: f64 = 600.0;
 
 /// Options of `edmd pack`.
 #[derive(Debug, Args)]
 pub struct PackArgs {
     /// Start from this file (Princeton or course format) instead of a random start: its radii
-    /// are the initial sizes, which all grow by one factor.
+    /// are the initial sizes, which all grow by one factor. Or a checkpoint (`--checkpoint`)
+    /// to continue, with the options it carries.
     pub file: Option<String>,
     /// Write the packing here (Princeton format; `-` for standard output).
     #[arg(long, short, value_name = "FILE")]
@@ -49,21 +55,31 @@ pub struct PackArgs {
     /// Polydisperse: diameters uniform with this relative standard deviation (mean 1).
     #[arg(long, value_parser = crate::args::parse_positive, allow_negative_numbers = true)]
     pub polydispersity: Option<f64>,
-    /// Growth rate G: the largest diameter grows as dD/dt = G v_rms (v_rms = 1).
-    #[arg(long, default_value_t = 0.02, value_parser = crate::args::parse_positive, allow_negative_numbers = true)]
-    pub growth_rate: f64,
-    /// Stop when the reduced pressure PV/(NkT) passes this.
-    #[arg(long, default_value_t = 1e12, value_parser = crate::args::parse_positive, allow_negative_numbers = true)]
-    pub pressure: f64,
+    /// Growth rate G: the largest diameter grows as dD/dt = G v_rms (v_rms = 1) [default:
+    /// 0.02].
+    #[arg(long, value_parser = crate::args::parse_positive, allow_negative_numbers = true)]
+    pub growth_rate: Option<f64>,
+    /// Stop when the reduced pressure PV/(NkT) passes this [default: 1e12].
+    #[arg(long, value_parser = crate::args::parse_positive, allow_negative_numbers = true)]
+    pub pressure: Option<f64>,
     /// Stop at this packing fraction (below jamming: dense fluids and glasses).
     #[arg(long, value_parser = crate::args::parse_positive, allow_negative_numbers = true)]
     pub packing: Option<f64>,
     /// Boundaries of a random start.
     #[arg(long, value_enum)]
     pub boundary: Option<BoundaryArg>,
-    /// Random seed: the same seed gives the same packing, bit for bit.
-    #[arg(long, default_value_t = 1, allow_negative_numbers = true)]
-    pub seed: u64,
+    /// Random seed: the same seed gives the same packing, bit for bit [default: 1].
+    #[arg(long, allow_negative_numbers = true)]
+    pub seed: Option<u64>,
+    /// Write an exact checkpoint of the compression here, replaced atomically every
+    /// --checkpoint-every seconds and when Ctrl-C stops it; `edmd pack CHECKPOINT -o OUT`
+    /// continues it and writes the packing of a run never stopped, bit for bit.
+    #[arg(long, value_name = "FILE")]
+    pub checkpoint: Option<PathBuf>,
+    /// Wall-clock seconds between checkpoints, each taken at the first velocity rescaling
+    /// after the interval (0: at every rescaling) [default: 600].
+    #[arg(long, value_name = "SECONDS", requires = "checkpoint", value_parser = crate::args::parse_non_negative, allow_negative_numbers = true)]
+    pub checkpoint_every: Option<f64>,
     /// Print the summary as one JSON object on standard output.
     #[arg(long)]
     pub json: bool,
@@ -108,12 +124,23 @@ pub struct Summary {
     pub output: String,
 }
 
-/// A start to compress: the particles and the box, in either dimension.
+/// A start to compress: the particles and the box, in either dimension, or a checkpoint to
+/// continue.
 pub enum Start {
     /// Discs.
     Two(Vec<Disc<2>>, SimBox<2>),
     /// Spheres.
     Three(Vec<Disc<3>>, SimBox<3>),
+    /// The bytes of a packing checkpoint (`--checkpoint`), in either dimension.
+    Checkpoint(Vec<u8>),
+}
+
+/// What a packing checkpoint keeps besides the packer: the seed (for the summary) and the
+/// wall-clock seconds spent so far (postcard-encoded).
+#[derive(Serialize, Deserialize)]
+struct CheckpointExtra {
+    seed: u64,
+    wall_seconds: f64,
 }
 
 /// A start given rather than drawn at random (a file for the command, a simulation for the
@@ -148,14 +175,7 @@ impl Packed {
 
 /// Runs `edmd pack`.
 pub fn run(args: &PackArgs) -> Result<()> {
-    check_distinct(
-        &args
-            .file
-            .as_deref()
-            .map(|f| vec![("the input file", Path::new(f))])
-            .unwrap_or_default(),
-        &[("-o", Path::new(&args.output))],
-    )?;
+    check_outputs(args)?;
     if args.json && args.output == "-" {
         return user_error(
             "pack: --json and -o - would both write to standard output; write the packing to a file",
@@ -165,20 +185,24 @@ pub fn run(args: &PackArgs) -> Result<()> {
     options(args)?;
     let what = args.file.as_ref().map(|f| format!("the file {f}"));
     let given = match &args.file {
-        Some(path) => {
-            refuse_random_options(args, what.as_deref().unwrap_or_default())?;
-            let text = read_text(path)?;
-            let (start, barriers) = match load_any(path, &text, None, ColumnOrder::RadiusMass)? {
-                edmd_io::AnyLoaded::Two(sys) => {
-                    (Start::Two(sys.discs, sys.sim_box), !sys.barriers.is_empty())
-                }
-                edmd_io::AnyLoaded::Three(sys) => (
-                    Start::Three(sys.discs, sys.sim_box),
-                    !sys.barriers.is_empty(),
-                ),
-            };
-            Some((path.as_str(), start, barriers))
-        }
+        Some(path) => match read_pack_checkpoint(Path::new(path))? {
+            Some(bytes) => Some((path.as_str(), Start::Checkpoint(bytes), false)),
+            None => {
+                refuse_random_options(args, what.as_deref().unwrap_or_default())?;
+                let text = read_text(path)?;
+                let (start, barriers) = match load_any(path, &text, None, ColumnOrder::RadiusMass)?
+                {
+                    edmd_io::AnyLoaded::Two(sys) => {
+                        (Start::Two(sys.discs, sys.sim_box), !sys.barriers.is_empty())
+                    }
+                    edmd_io::AnyLoaded::Three(sys) => (
+                        Start::Three(sys.discs, sys.sim_box),
+                        !sys.barriers.is_empty(),
+                    ),
+                };
+                Some((path.as_str(), start, barriers))
+            }
+        },
         None => None,
     };
     let given = given.map(|(name, start, barriers)| Given {
@@ -187,6 +211,7 @@ pub fn run(args: &PackArgs) -> Result<()> {
         start,
         barriers,
     });
+    crate::commands::experiment::common::install_ctrlc();
     let bar = progress_bar();
     let packed = pack(args, given, |s: &Status| {
         if let Some(pb) = &bar {
@@ -198,15 +223,73 @@ pub fn run(args: &PackArgs) -> Result<()> {
             ));
             pb.tick();
         }
-        true
+        !crate::commands::experiment::common::stop_requested()
     });
     if let Some(pb) = &bar {
         pb.finish_and_clear();
     }
-    match packed? {
+    let packed = packed?;
+    let s = packed.summary();
+    if s.stop == Stop::Interrupted.name() {
+        let phi = s.packing_fraction;
+        match &args.checkpoint {
+            Some(ck) => anyhow::bail!(
+                "interrupted at packing fraction {phi:.6}: the compression so far is in the checkpoint {} (edmd pack {} -o {} continues it); nothing else written",
+                ck.display(),
+                ck.display(),
+                args.output
+            ),
+            None => anyhow::bail!("interrupted at packing fraction {phi:.6}: nothing written"),
+        }
+    }
+    match packed {
         Packed::Two(packing, summary) => report(args, &packing, summary),
         Packed::Three(packing, summary) => report(args, &packing, summary),
     }
+}
+
+/// Refuses outputs that are the input or each other, before anything is read. The checkpoint
+/// may replace the checkpoint the compression continues from (atomically).
+fn check_outputs(args: &PackArgs) -> Result<()> {
+    let input = args.file.as_deref().map(Path::new);
+    if args.checkpoint.as_deref() == Some(Path::new("-")) {
+        return user_error(
+            "pack: --checkpoint -: checkpoints are written to a file; give a file name",
+        );
+    }
+    let mut outputs = vec![("-o", Path::new(&args.output))];
+    let in_place = match (input, args.checkpoint.as_deref()) {
+        (Some(i), Some(c)) => {
+            crate::commands::run::same_file(i, c)
+                && read_magic(i)?.is_some_and(|m| edmd_core::pack::is_pack_checkpoint(&m))
+        }
+        _ => false,
+    };
+    if let Some(c) = args.checkpoint.as_deref() {
+        if in_place {
+            check_distinct(&[("the checkpoint", c)], &outputs)?;
+        } else {
+            outputs.push(("--checkpoint", c));
+        }
+    }
+    check_distinct(
+        &input
+            .map(|f| vec![("the input file", f)])
+            .unwrap_or_default(),
+        &outputs,
+    )
+}
+
+/// Reads `path` whole if it is a packing checkpoint; `None` for any other file (a data file).
+/// A run's checkpoint is refused by name.
+pub fn read_pack_checkpoint(path: &Path) -> Result<Option<Vec<u8>>> {
+    if read_magic(path)? == Some(*edmd_core::CHECKPOINT_MAGIC) {
+        return user_error(format!(
+            "{}: a run checkpoint (edmd run continues it), not a packing's",
+            path.display()
+        ));
+    }
+    read_file_starting(path, edmd_core::pack::PACK_MAGIC)
 }
 
 /// Checks the options, makes the start (the random one of `args`, or `given`) and compresses
@@ -219,6 +302,11 @@ pub fn pack(
 ) -> Result<Packed> {
     let options = options(args)?;
     match given {
+        Some(Given {
+            name,
+            start: Start::Checkpoint(bytes),
+            ..
+        }) => resume(args, name, &bytes, progress),
         Some(given) => {
             refuse_random_options(args, given.what)?;
             if given.barriers {
@@ -235,6 +323,7 @@ pub fn pack(
                     let (p, s) = compress(args, discs, sim_box, options, progress)?;
                     Ok(Packed::Three(p, s))
                 }
+                Start::Checkpoint(_) => unreachable!("continued above"),
             }
         }
         None => {
@@ -253,19 +342,74 @@ pub fn pack(
             };
             match args.dim.unwrap_or(2) {
                 3 => {
-                    let (discs, sim_box) = random_start::<3>(n, sizes, boundary, args.seed)
+                    let (discs, sim_box) = random_start::<3>(n, sizes, boundary, seed(args))
                         .or_else(|e| user_error(e.to_string()))?;
                     let (p, s) = compress(args, discs, sim_box, options, progress)?;
                     Ok(Packed::Three(p, s))
                 }
                 _ => {
-                    let (discs, sim_box) = random_start::<2>(n, sizes, boundary, args.seed)
+                    let (discs, sim_box) = random_start::<2>(n, sizes, boundary, seed(args))
                         .or_else(|e| user_error(e.to_string()))?;
                     let (p, s) = compress(args, discs, sim_box, options, progress)?;
                     Ok(Packed::Two(p, s))
                 }
             }
         }
+    }
+}
+
+/// The seed: `--seed`, or 1.
+fn seed(args: &PackArgs) -> u64 {
+    args.seed.unwrap_or(1)
+}
+
+/// Continues the compression a checkpoint holds (`name` names it).
+fn resume(
+    args: &PackArgs,
+    name: &str,
+    bytes: &[u8],
+    progress: impl FnMut(&Status) -> bool,
+) -> Result<Packed> {
+    for (flag, set) in [
+        ("dim", args.dim.is_some()),
+        ("n", args.n.is_some()),
+        ("size-ratio", args.size_ratio.is_some()),
+        ("fraction-large", args.fraction_large.is_some()),
+        ("polydispersity", args.polydispersity.is_some()),
+        ("boundary", args.boundary.is_some()),
+        ("growth-rate", args.growth_rate.is_some()),
+        ("pressure", args.pressure.is_some()),
+        ("packing", args.packing.is_some()),
+        ("seed", args.seed.is_some()),
+    ] {
+        if set {
+            return user_error(format!(
+                "pack: --{flag} is carried by the checkpoint {name}; drop it to continue"
+            ));
+        }
+    }
+    fn load<const D: usize>(name: &str, bytes: &[u8]) -> Result<(Packer<D>, CheckpointExtra)> {
+        let (packer, extra) =
+            Packer::<D>::from_checkpoint(bytes).or_else(|e| user_error(format!("{name}: {e}")))?;
+        let Ok(extra) = postcard::from_bytes::<CheckpointExtra>(&extra) else {
+            return user_error(format!(
+                "{name}: checkpoint: the command's settings are missing or unreadable"
+            ));
+        };
+        Ok((packer, extra))
+    }
+    match edmd_core::pack::pack_checkpoint_dim(bytes) {
+        Ok(3) => {
+            let (packer, extra) = load::<3>(name, bytes)?;
+            let (p, s) = drive(args, packer, extra.seed, extra.wall_seconds, progress)?;
+            Ok(Packed::Three(p, s))
+        }
+        Ok(_) => {
+            let (packer, extra) = load::<2>(name, bytes)?;
+            let (p, s) = drive(args, packer, extra.seed, extra.wall_seconds, progress)?;
+            Ok(Packed::Two(p, s))
+        }
+        Err(e) => user_error(format!("{name}: {e}")),
     }
 }
 
@@ -289,9 +433,10 @@ fn refuse_random_options(args: &PackArgs, what: &str) -> Result<()> {
 }
 
 fn options(args: &PackArgs) -> Result<PackOptions> {
+    let default = PackOptions::default();
     let options = PackOptions {
-        growth_rate: args.growth_rate,
-        max_pressure: args.pressure,
+        growth_rate: args.growth_rate.unwrap_or(default.growth_rate),
+        max_pressure: args.pressure.unwrap_or(default.max_pressure),
         target_packing: args.packing,
         ..PackOptions::default()
     };
@@ -331,7 +476,7 @@ fn at_speed<const D: usize>(
     }
     if discs.iter().all(|d| d.vel == Vector::ZERO) {
         // Particles at rest: thermal velocities from the seed.
-        let mut rng = rand_pcg::Pcg64Mcg::seed_from_u64(args.seed);
+        let mut rng = rand_pcg::Pcg64Mcg::seed_from_u64(seed(args));
         thermal_velocities(&mut discs, 1.0, &mut rng);
     }
     Ok(discs)
@@ -345,20 +490,55 @@ fn compress<const D: usize>(
     options: PackOptions,
     progress: impl FnMut(&Status) -> bool,
 ) -> Result<(Packing<D>, Summary)> {
-    let n = discs.len();
     let packer = Packer::new(&discs, sim_box, options).or_else(|e| user_error(e.to_string()))?;
+    drive(args, packer, seed(args), 0.0, progress)
+}
+
+/// Runs a compression to its end (after `before` wall-clock seconds in earlier legs), writing
+/// the checkpoints `args` asks for, and analyses the packing.
+fn drive<const D: usize>(
+    args: &PackArgs,
+    packer: Packer<D>,
+    seed: u64,
+    before: f64,
+    mut progress: impl FnMut(&Status) -> bool,
+) -> Result<(Packing<D>, Summary)> {
+    let growth_rate = packer.options().growth_rate;
     let start = Instant::now();
-    let packing: Packing<D> = packer
-        .run(progress)
-        .or_else(|e| user_error(e.to_string()))?;
-    let wall_seconds = start.elapsed().as_secs_f64();
+    let every = Duration::try_from_secs_f64(args.checkpoint_every.unwrap_or(CHECKPOINT_EVERY))
+        .unwrap_or(Duration::MAX);
+    let mut last = Instant::now();
+    let mut failed = None;
+    let packing = packer.run_with(|pk| {
+        let go = progress(&pk.status());
+        if let Some(path) = &args.checkpoint {
+            if !go || last.elapsed() >= every {
+                let extra = CheckpointExtra {
+                    seed,
+                    wall_seconds: before + start.elapsed().as_secs_f64(),
+                };
+                let extra = postcard::to_stdvec(&extra).expect("two numbers encode");
+                if let Err(e) = write_checkpoint(path, &pk.checkpoint(&extra)) {
+                    failed = Some(e);
+                    return false;
+                }
+                last = Instant::now();
+            }
+        }
+        go
+    });
+    if let Some(e) = failed {
+        return Err(e);
+    }
+    let packing: Packing<D> = packing.or_else(|e| user_error(e.to_string()))?;
+    let wall_seconds = before + start.elapsed().as_secs_f64();
     let tol = gap_tolerance(packing.reduced_pressure.unwrap_or(1.0), D);
     let c = contacts(&packing.discs, &packing.sim_box, tol);
     let summary = Summary {
         dim: D,
-        n,
-        growth_rate: args.growth_rate,
-        seed: args.seed,
+        n: packing.discs.len(),
+        growth_rate,
+        seed,
         packing_fraction: packing.packing_fraction,
         reduced_pressure: packing.reduced_pressure,
         stop: packing.stop.name(),

@@ -297,21 +297,42 @@ fn names(which: &[Measure]) -> String {
 }
 
 /// Reads `path` as a checkpoint if it starts with the checkpoint magic number; `None` for any
-/// other file (read as a data file then).
+/// other file (read as a data file then). A packing's checkpoint is refused by name.
 pub fn read_checkpoint(path: &Path) -> Result<Option<Vec<u8>>> {
+    if read_magic(path)?.is_some_and(|m| edmd_core::pack::is_pack_checkpoint(&m)) {
+        return user_error(format!(
+            "{}: a packing checkpoint (edmd pack continues it: edmd pack {} -o OUT), not a run's",
+            path.display(),
+            path.display()
+        ));
+    }
+    read_file_starting(path, edmd_core::CHECKPOINT_MAGIC)
+}
+
+/// The first 8 bytes of a regular file (`None` for `-`, a device, a folder, a shorter file or
+/// one that cannot be opened: those are left to the data file reader).
+pub fn read_magic(path: &Path) -> Result<Option<[u8; 8]>> {
     use std::io::Read;
     if path == Path::new("-") || std::fs::metadata(path).map_or(true, |m| !m.is_file()) {
         return Ok(None);
     }
-    let mut f = match std::fs::File::open(path) {
-        Ok(f) => f,
-        Err(_) => return Ok(None),
+    let Ok(mut f) = std::fs::File::open(path) else {
+        return Ok(None);
     };
     let mut start = [0u8; 8];
-    if f.read_exact(&mut start).is_err() || !edmd_core::is_checkpoint(&start) {
+    Ok(f.read_exact(&mut start).is_ok().then_some(start))
+}
+
+/// Reads `path` whole if it is a regular file starting with `magic` (a checkpoint: at most
+/// [`crate::input::MAX_FILE`] bytes); `None` for any other file.
+pub fn read_file_starting(path: &Path, magic: &[u8; 8]) -> Result<Option<Vec<u8>>> {
+    use std::io::Read;
+    if read_magic(path)? != Some(*magic) {
         return Ok(None);
     }
-    let mut bytes = start.to_vec();
+    let f = std::fs::File::open(path)
+        .or_else(|e| user_error(format!("{}: cannot read: {e}", path.display())))?;
+    let mut bytes = Vec::new();
     f.take(crate::input::MAX_FILE as u64 + 1)
         .read_to_end(&mut bytes)
         .or_else(|e| user_error(format!("{}: cannot read: {e}", path.display())))?;
@@ -509,7 +530,7 @@ fn execute<const D: usize>(
 
 /// Writes a checkpoint of `sim` to `path`, replacing the previous one atomically (a kill at any
 /// moment leaves the old one whole).
-fn write_checkpoint(path: &Path, bytes: &[u8]) -> Result<()> {
+pub fn write_checkpoint(path: &Path, bytes: &[u8]) -> Result<()> {
     let mut f = AtomicFile::create(path)?;
     f.writer().write_all(bytes)?;
     f.commit()?;
@@ -605,7 +626,7 @@ fn measure_dir(args: &RunArgs) -> &Path {
 }
 
 /// Whether two paths name the same existing file.
-fn same_file(a: &Path, b: &Path) -> bool {
+pub fn same_file(a: &Path, b: &Path) -> bool {
     use std::os::unix::fs::MetadataExt;
     match (std::fs::metadata(a), std::fs::metadata(b)) {
         (Ok(x), Ok(y)) => x.dev() == y.dev() && x.ino() == y.ino(),

@@ -28,6 +28,10 @@ use super::resolve::{ls_impulse, reduced_mass};
 use super::start::ball_volume;
 use super::{PackOptions, Packing, Status, Stop};
 
+mod persist;
+
+pub use persist::{is_pack_checkpoint, pack_checkpoint_dim, PACK_FORMAT_VERSION, PACK_MAGIC};
+
 /// Cells are built this much (relatively) wider than the largest diameter, so that a grid
 /// lasts while the diameter grows by that much.
 const GRID_MARGIN: f64 = 0.05;
@@ -129,6 +133,8 @@ pub struct Packer<const D: usize> {
     rescales: u64,
     pressure: Option<f64>,
     last_packing: Option<f64>,
+    /// Events in a row at one time (the stall watcher's count, carried over synchronisations).
+    same_time: u64,
 }
 
 impl<const D: usize> Packer<D> {
@@ -145,7 +151,6 @@ impl<const D: usize> Packer<D> {
                 "pack: every particle is at rest; give them velocities".into(),
             ));
         }
-        let n = discs.len();
         let parts: Vec<Particle<D>> = discs
             .iter()
             .map(|d| Particle {
@@ -159,11 +164,36 @@ impl<const D: usize> Packer<D> {
                 next: Next::Never,
             })
             .collect();
+        let labels = discs.iter().map(|d| (d.colour, d.species)).collect();
+        let mut packer = Packer::assemble(parts, labels, sim_box, options);
+        if let Some(target) = options.target_packing {
+            let phi = packer.packing_fraction();
+            if target <= phi {
+                return Err(Error::Invalid(format!(
+                    "pack: the target packing fraction {target} is not above the start's {phi}"
+                )));
+            }
+        }
+        packer.rescale_velocities();
+        packer.rebuild_grid(true)?;
+        packer.predict_all();
+        Ok(packer)
+    }
+
+    /// A packer of `parts` at time 0 and scale 1, before the grid, the velocities' rescaling
+    /// and the predictions (all that follows from the particles, the box and the options).
+    fn assemble(
+        parts: Vec<Particle<D>>,
+        labels: Vec<(Colour, u16)>,
+        sim_box: SimBox<D>,
+        options: PackOptions,
+    ) -> Self {
+        let n = parts.len();
         let d0_max = parts.iter().map(|p| p.d0).fold(0.0, f64::max);
         let vol0 = parts.iter().map(|p| ball_volume::<D>(p.d0)).sum();
-        let mut packer = Packer {
+        Packer {
             parts,
-            labels: discs.iter().map(|d| (d.colour, d.species)).collect(),
+            labels,
             sim_box,
             queue: TournamentQueue::with_len(n),
             head: Vec::new(),
@@ -205,20 +235,9 @@ impl<const D: usize> Packer<D> {
             rescales: 0,
             pressure: None,
             last_packing: None,
+            same_time: 0,
             options,
-        };
-        if let Some(target) = options.target_packing {
-            let phi = packer.packing_fraction();
-            if target <= phi {
-                return Err(Error::Invalid(format!(
-                    "pack: the target packing fraction {target} is not above the start's {phi}"
-                )));
-            }
         }
-        packer.rescale_velocities();
-        packer.rebuild_grid(true)?;
-        packer.predict_all();
-        Ok(packer)
     }
 
     /// The packing fraction now.
@@ -233,11 +252,20 @@ impl<const D: usize> Packer<D> {
 
     /// Runs until a stopping rule holds. `progress` is called at every synchronisation with
     /// the state so far; returning `false` stops the run ([`Stop::Interrupted`]).
-    pub fn run(mut self, mut progress: impl FnMut(&Status) -> bool) -> Result<Packing<D>, Error> {
+    pub fn run(self, mut progress: impl FnMut(&Status) -> bool) -> Result<Packing<D>, Error> {
+        self.run_with(|packer| progress(&packer.status()))
+    }
+
+    /// [`Self::run`], with the packer itself handed to `progress` at every measured
+    /// synchronisation, where [`Self::checkpoint`] may be taken (and [`Self::status`] read).
+    pub fn run_with(
+        mut self,
+        mut progress: impl FnMut(&Packer<D>) -> bool,
+    ) -> Result<Packing<D>, Error> {
         let n = self.parts.len() as u64;
         let per_sync = ((self.options.collisions_per_rescale * n as f64) as u64).max(1);
         let stall_limit = (100 * n).max(1_000_000);
-        let mut same_time = 0u64;
+        // Zero wherever the caller can see the packer (at its start and after an event).
         let mut idle_syncs = 0u32;
         let stop = loop {
             let (i, t) = self.queue.min().expect("one event per particle");
@@ -264,16 +292,17 @@ impl<const D: usize> Packer<D> {
             }
             idle_syncs = 0;
             if t == self.now {
-                same_time += 1;
-                if same_time > stall_limit {
+                self.same_time += 1;
+                if self.same_time > stall_limit {
                     return Err(Error::Invalid(format!(
-                        "pack: the clock stopped: {same_time} events in a row at one time, at packing fraction {:.9} and reduced pressure {:.3e} (particle {i} and its neighbours are jammed beyond what double precision resolves; ask for a lower --pressure)",
+                        "pack: the clock stopped: {} events in a row at one time, at packing fraction {:.9} and reduced pressure {:.3e} (particle {i} and its neighbours are jammed beyond what double precision resolves; ask for a lower --pressure)",
+                        self.same_time,
                         self.packing_fraction(),
                         self.pressure.unwrap_or(f64::NAN)
                     )));
                 }
             } else {
-                same_time = 0;
+                self.same_time = 0;
             }
             self.now = t;
             self.events += 1;
@@ -287,8 +316,7 @@ impl<const D: usize> Packer<D> {
                 if let Some(stop) = self.synchronise(true)? {
                     break stop;
                 }
-                let status = self.status();
-                if !progress(&status) {
+                if !progress(&self) {
                     break Stop::Interrupted;
                 }
             }
@@ -296,7 +324,18 @@ impl<const D: usize> Packer<D> {
         Ok(self.finish(stop))
     }
 
-    fn status(&self) -> Status {
+    /// The options of the compression.
+    pub fn options(&self) -> &PackOptions {
+        &self.options
+    }
+
+    /// Whether neighbour lists have replaced the cell crossings (above [`LIST_PACKING`]).
+    pub fn neighbour_lists(&self) -> bool {
+        self.lists
+    }
+
+    /// The state so far: packing fraction, reduced pressure of the last interval, collisions.
+    pub fn status(&self) -> Status {
         Status {
             packing_fraction: self.packing_fraction(),
             reduced_pressure: self.pressure,
@@ -674,14 +713,18 @@ impl<const D: usize> Packer<D> {
         }
     }
 
-    /// Builds the grid for the present diameter (if `force` or if its shape changes) and sets
-    /// its deadline. Fails when a periodic box has become too small for the particles.
-    fn rebuild_grid(&mut self, force: bool) -> Result<(), Error> {
+    /// The skin of the neighbour lists built now.
+    fn list_skin(&self) -> f64 {
+        LIST_SKIN * (self.d0_max * self.scale(self.now))
+    }
+
+    /// The shape of the grid for the present diameter. Fails when a periodic box has become
+    /// too small for the particles.
+    fn grid_shape(&self) -> Result<[usize; D], Error> {
         let n = self.parts.len();
         let d_now = self.d0_max * self.scale(self.now);
-        self.skin = LIST_SKIN * d_now;
         let reach = if self.lists {
-            d_now + self.skin
+            d_now + self.list_skin()
         } else {
             d_now * (1.0 + GRID_MARGIN)
         };
@@ -700,6 +743,15 @@ impl<const D: usize> Packer<D> {
                 cells[a] = 3;
             }
         }
+        Ok(cells)
+    }
+
+    /// Builds the grid for the present diameter (if `force` or if its shape changes) and sets
+    /// its deadline. Fails when a periodic box has become too small for the particles.
+    fn rebuild_grid(&mut self, force: bool) -> Result<(), Error> {
+        let n = self.parts.len();
+        self.skin = self.list_skin();
+        let cells = self.grid_shape()?;
         if force || self.lists || cells != self.cells {
             self.cells = cells;
             self.width = std::array::from_fn(|a| self.sim_box.lengths[a] / cells[a] as f64);

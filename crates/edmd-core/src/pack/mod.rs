@@ -53,7 +53,9 @@ pub mod resolve;
 pub mod start;
 
 pub use contacts::{contacts, gap_tolerance, Contacts};
-pub use event_loop::Packer;
+pub use event_loop::{
+    is_pack_checkpoint, pack_checkpoint_dim, Packer, PACK_FORMAT_VERSION, PACK_MAGIC,
+};
 pub use start::{random_start, PackSizes, START_PACKING};
 
 use crate::error::Error;

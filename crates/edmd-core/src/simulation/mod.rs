@@ -42,7 +42,9 @@ pub use event_loop::x86_64_v3_available;
 pub use options::{
     MultiContact, Options, OverlapPolicy, Stats, OVERLAP_ROUNDING, OVERLAP_TOLERANCE,
 };
-pub use persist::{checkpoint_dim, is_checkpoint, FORMAT_VERSION as CHECKPOINT_VERSION};
+pub use persist::{
+    checkpoint_dim, is_checkpoint, FORMAT_VERSION as CHECKPOINT_VERSION, MAGIC as CHECKPOINT_MAGIC,
+};
 pub use stall::{Stall, StallCause, MIN_STALL_EVENTS, STALL_EVENTS_PER_DISC};
 
 use crate::cells::CellGrid;

@@ -26,15 +26,14 @@ use crate::state::{Barrier, Boundary, Demon, Disc, SimBox};
 
 use super::{Body, MultiContact, Simulation, Stall, StallCause, Stats};
 
+use crate::frame::{self, Reader, Writer};
+
 /// The first bytes of every checkpoint.
-pub const MAGIC: &[u8; 8] = b"EDMDCKPT";
+pub const MAGIC: &[u8; 8] = frame::RUN.magic;
 
 /// The checkpoint format this build writes. It reads this one and version 1 (which lacked the
 /// stall watcher's chunk position: a version-1 checkpoint continues as if at a chunk's start).
-pub const FORMAT_VERSION: u32 = 2;
-
-/// Header bytes: magic, version, dimension, payload length.
-const HEADER: usize = 8 + 4 + 4 + 8;
+pub const FORMAT_VERSION: u32 = frame::RUN.version;
 
 /// Whether `bytes` start like a checkpoint (the magic number).
 pub fn is_checkpoint(bytes: &[u8]) -> bool {
@@ -44,125 +43,7 @@ pub fn is_checkpoint(bytes: &[u8]) -> bool {
 /// The dimension a checkpoint holds, after checking its frame (magic, version, length,
 /// checksum).
 pub fn checkpoint_dim(bytes: &[u8]) -> Result<usize, Error> {
-    frame(bytes).map(|(dim, _, _)| dim)
-}
-
-/// Checks the frame and returns the dimension, the format version and the payload.
-fn frame(bytes: &[u8]) -> Result<(usize, u32, &[u8]), Error> {
-    let bad = |what: String| Err(Error::Checkpoint(what));
-    if bytes.len() < MAGIC.len() || !bytes.starts_with(MAGIC) {
-        return bad("not an edmd checkpoint (no EDMDCKPT magic number)".into());
-    }
-    if bytes.len() < HEADER + 4 {
-        return bad(format!(
-            "truncated: {} bytes, shorter than the header",
-            bytes.len()
-        ));
-    }
-    let word = |at: usize| u32::from_le_bytes(bytes[at..at + 4].try_into().expect("4 bytes"));
-    let version = word(8);
-    if version != FORMAT_VERSION && version != 1 {
-        return bad(if version > FORMAT_VERSION {
-            format!("format version {version} is newer than this edmd reads ({FORMAT_VERSION}); use a newer edmd")
-        } else {
-            format!("format version {version} is not one this edmd reads ({FORMAT_VERSION})")
-        });
-    }
-    let dim = word(12) as usize;
-    if dim != 2 && dim != 3 {
-        return bad(format!("dimension {dim} (2 or 3 expected)"));
-    }
-    let len = u64::from_le_bytes(bytes[16..24].try_into().expect("8 bytes"));
-    let expected = (HEADER as u64).saturating_add(len).saturating_add(4);
-    if bytes.len() as u64 != expected {
-        return bad(format!(
-            "truncated or extended: {} bytes where the header says {expected}",
-            bytes.len()
-        ));
-    }
-    let body_end = bytes.len() - 4;
-    let stored = u32::from_le_bytes(bytes[body_end..].try_into().expect("4 bytes"));
-    if crc32fast::hash(&bytes[..body_end]) != stored {
-        return bad("corrupted: the checksum does not match".into());
-    }
-    Ok((dim, version, &bytes[HEADER..body_end]))
-}
-
-/// Little-endian writer.
-struct Writer(Vec<u8>);
-
-impl Writer {
-    fn u8(&mut self, x: u8) {
-        self.0.push(x);
-    }
-    fn u32(&mut self, x: u32) {
-        self.0.extend_from_slice(&x.to_le_bytes());
-    }
-    fn u64(&mut self, x: u64) {
-        self.0.extend_from_slice(&x.to_le_bytes());
-    }
-    fn f64(&mut self, x: f64) {
-        self.u64(x.to_bits());
-    }
-    fn len(&mut self, n: usize) {
-        self.u64(n as u64);
-    }
-    fn bytes(&mut self, b: &[u8]) {
-        self.len(b.len());
-        self.0.extend_from_slice(b);
-    }
-}
-
-/// Little-endian reader; every read past the end is an error.
-struct Reader<'a> {
-    bytes: &'a [u8],
-    at: usize,
-}
-
-impl<'a> Reader<'a> {
-    fn take(&mut self, k: usize) -> Result<&'a [u8], Error> {
-        if self.bytes.len() - self.at < k {
-            return Err(Error::Checkpoint("truncated payload".into()));
-        }
-        let s = &self.bytes[self.at..self.at + k];
-        self.at += k;
-        Ok(s)
-    }
-    fn u8(&mut self) -> Result<u8, Error> {
-        Ok(self.take(1)?[0])
-    }
-    fn u32(&mut self) -> Result<u32, Error> {
-        Ok(u32::from_le_bytes(self.take(4)?.try_into().expect("4")))
-    }
-    fn u64(&mut self) -> Result<u64, Error> {
-        Ok(u64::from_le_bytes(self.take(8)?.try_into().expect("8")))
-    }
-    fn f64(&mut self) -> Result<f64, Error> {
-        self.u64().map(f64::from_bits)
-    }
-    /// A count of items of `size` bytes each that must fit in what is left.
-    fn len(&mut self, size: usize) -> Result<usize, Error> {
-        let n = self.u64()?;
-        let left = (self.bytes.len() - self.at) as u64;
-        if n.saturating_mul(size.max(1) as u64) > left {
-            return Err(Error::Checkpoint(format!(
-                "a count of {n} does not fit in the {left} bytes left"
-            )));
-        }
-        Ok(n as usize)
-    }
-    fn bytes(&mut self) -> Result<&'a [u8], Error> {
-        let n = self.len(1)?;
-        self.take(n)
-    }
-    /// A yes/no byte, 0 or 1 as written: anything else would not round-trip.
-    fn flag(&mut self, what: &str) -> Result<bool, Error> {
-        match self.u8()? {
-            0 => Ok(false),
-            1 => Ok(true),
-            x => bad(format!("{what} flag {x} (0 or 1 expected)")),
-        }
-    }
+    frame::open(bytes, &frame::RUN).map(|(dim, _, _)| dim)
 }
 
 fn bad<T>(what: impl Into<String>) -> Result<T, Error> {
@@ -188,13 +69,7 @@ impl<const D: usize> Simulation<D> {
     /// The whole state as a checkpoint file's bytes, with `extra` bytes of the caller's kept
     /// alongside (returned by [`Self::from_checkpoint`]).
     pub fn to_checkpoint(&self, extra: &[u8]) -> Vec<u8> {
-        let mut w = Writer(Vec::with_capacity(
-            HEADER + 128 * self.body.len() + extra.len(),
-        ));
-        w.0.extend_from_slice(MAGIC);
-        w.u32(FORMAT_VERSION);
-        w.u32(D as u32);
-        w.u64(0); // the payload length, filled in below
+        let mut w = Writer::begin(&frame::RUN, D, 128 * self.body.len() + extra.len());
         for a in 0..D {
             w.f64(self.sim_box.lengths[a]);
             w.u8((self.sim_box.boundaries[a] == Boundary::Periodic) as u8);
@@ -330,25 +205,18 @@ impl<const D: usize> Simulation<D> {
             }
         }
         w.bytes(extra);
-        let payload = (w.0.len() - HEADER) as u64;
-        w.0[16..24].copy_from_slice(&payload.to_le_bytes());
-        let crc = crc32fast::hash(&w.0);
-        w.u32(crc);
-        w.0
+        w.seal()
     }
 
     /// A simulation continued from checkpoint bytes, and the caller's extra bytes. Fails with
     /// [`Error::Checkpoint`] on anything that is not a whole, intact checkpoint of dimension
     /// `D` written by this format version.
     pub fn from_checkpoint(bytes: &[u8]) -> Result<(Self, Vec<u8>), Error> {
-        let (dim, version, payload) = frame(bytes)?;
+        let (dim, version, payload) = frame::open(bytes, &frame::RUN)?;
         if dim != D {
             return bad(format!("a {dim}D checkpoint, read as {D}D"));
         }
-        let mut r = Reader {
-            bytes: payload,
-            at: 0,
-        };
+        let mut r = Reader::new(payload);
         let mut lengths = [0.0; D];
         let mut boundaries = [Boundary::Walls; D];
         for a in 0..D {
@@ -632,7 +500,7 @@ impl<const D: usize> Simulation<D> {
             x => return bad(format!("stall code {x}")),
         };
         let extra = r.bytes()?.to_vec();
-        if r.at != payload.len() {
+        if !r.at_end() {
             return bad("bytes after the end of the state");
         }
         let mut queue = super::new_queue::<D>(n);
