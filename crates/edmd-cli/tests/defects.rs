@@ -1054,6 +1054,46 @@ fn runs_whose_clock_stops_fail_naming_the_discs() {
     );
 }
 
+// 10, found again in the eighth session: the same lattice and column of touching discs with
+// random velocities (radius 0.025 in the unit box) collide across gaps of rounding size, so the
+// clock crept (1e-12 after 8 million events) and `run` and `particles` never finished. They now
+// stop as the runs above do.
+#[test]
+fn runs_whose_clock_creeps_fail_naming_the_discs() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut x: u64 = 7;
+    let mut random = || {
+        x = x
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        (x >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
+    };
+    let (mut lattice, mut course) = (String::from("400\n"), String::from("400\n0.025\n1 1\n"));
+    for k in 0..400 {
+        let (i, j) = ((k / 20) as f64, (k % 20) as f64);
+        let (u, v) = (random(), random());
+        let (px, py) = (0.025 + 0.05 * i, 0.025 + 0.05 * j);
+        lattice += &format!("{px} {py} {u} {v} 0.025 1 0 0 0\n");
+        course += &format!("{px} {py} {u} {v}\n");
+    }
+    let lattice = write(&dir, "lattice.txt", &lattice);
+    let course = write(&dir, "course.txt", &course);
+    let out = within(
+        dir.path(),
+        "edmd",
+        &["run", &lattice, "--until", "10", "-o", "out.txt"],
+        256,
+        30,
+    );
+    refused_with(&out, "the clock stopped advancing at t = ");
+    refused_with(&out, "moved it by next to nothing, among discs");
+    refused_with(&out, "nothing written");
+    let out = within(dir.path(), "particles", &[&course, "10"], 256, 30);
+    refused_with(&out, "the clock stopped advancing at t = ");
+    assert!(out.stdout.is_empty());
+    assert_eq!(names(dir.path()), ["course.txt", "lattice.txt"]);
+}
+
 // 11. With multi-disc collisions, a light disc pinched between two discs 10^12 times heavier
 // ran the contact integrator for ever (found by fuzzing). Now the run stops at once with one
 // line saying why, exit status 2, and writes nothing.

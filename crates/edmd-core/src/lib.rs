@@ -44,7 +44,7 @@ pub use observer::{CollisionCounter, Observer};
 pub use resolve::CollisionRule;
 pub use simulation::{
     checkpoint_dim, is_checkpoint, MultiContact, Options, OverlapPolicy, OverlapReport, Simulation,
-    Stall, StallCause, Stats, CHECKPOINT_MAGIC, CHECKPOINT_VERSION, MAX_BARRIERS, OVERLAP_ROUNDING,
-    OVERLAP_TOLERANCE,
+    Stall, StallCause, Stats, CHECKPOINT_MAGIC, CHECKPOINT_VERSION, CREEP_EVENTS_SPAN,
+    MAX_BARRIERS, OVERLAP_ROUNDING, OVERLAP_TOLERANCE,
 };
 pub use state::{Barrier, Boundary, Colour, Demon, Disc, SimBox, System};

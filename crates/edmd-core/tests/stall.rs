@@ -201,3 +201,69 @@ fn stall_count_survives_a_checkpoint() {
     assert_eq!(again.run_events(10, &mut ()), 0);
     assert_eq!(again.to_checkpoint(b""), bytes);
 }
+
+/// Velocities in (-1, 1) from a fixed sequence (a 64-bit linear congruential generator, Knuth's
+/// MMIX constants), so that no two discs move alike.
+fn scrambled(k: usize) -> Vec<[f64; 2]> {
+    let mut x: u64 = 12345;
+    let mut next = || {
+        x = x
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        (x >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
+    };
+    (0..k).map(|_| [next(), next()]).collect()
+}
+
+/// Regression (issue 10, found again by a review in the eighth session): a 20 x 20 lattice of
+/// touching discs of radius 0.025 filling the unit box, with random velocities, and a column of
+/// 20 such discs filling its height. Their events are not at one instant: the discs collide
+/// across gaps of rounding size (1e-17), so millions of events moved the clock by 1e-12 in all
+/// and `edmd run --until 10` would have taken years. They now stop as creeping stalls.
+#[test]
+fn touching_discs_with_random_velocities_stop_as_a_creeping_clock() {
+    use edmd_core::simulation::StallCause;
+    let r = 0.025;
+    let v = scrambled(400);
+    let mut lattice = Vec::new();
+    for i in 0..20 {
+        for j in 0..20 {
+            let c = |k: usize| r + 2.0 * r * k as f64;
+            lattice.push(disc([c(i), c(j)], v[20 * i + j], r));
+        }
+    }
+    let column: Vec<Disc> = (0..20)
+        .map(|k| disc([0.5, r + 2.0 * r * k as f64], v[k], r))
+        .collect();
+    for discs in [lattice, column] {
+        let mut sim = Simulation::new(&discs, SimBox::unit(), Options::default()).unwrap();
+        let start = std::time::Instant::now();
+        sim.run_until(10.0, &mut ());
+        let s = sim.stalled().expect("the run stalled").clone();
+        assert_eq!(s.cause, StallCause::Creep, "{s}");
+        assert!(s.time < 1e-9, "{s}");
+        assert!(s.events > sim.stall_limit(), "{s:?}");
+        assert!(!s.discs.is_empty(), "{s:?}");
+        let text = s.to_string();
+        assert!(text.contains("the clock stopped advancing"), "{text}");
+        assert!(text.contains("jammed"), "{text}");
+        // A few seconds at most in the optimised test build.
+        assert!(start.elapsed().as_secs() < 20, "{:?}", start.elapsed());
+        // Stopped the same way event by event.
+        let mut stepped = Simulation::new(&discs, SimBox::unit(), Options::default()).unwrap();
+        while stepped.step(10.0).is_some() {}
+        assert_eq!(stepped.stalled().map(|s| s.cause), Some(StallCause::Creep));
+    }
+}
+
+/// The creep bound leaves dense fluids alone: a fluid at packing 0.7 runs its course.
+#[test]
+fn a_dense_fluid_does_not_count_as_creeping() {
+    let (discs, bx) =
+        edmd_core::setup::lattice_fluid(400, 0.7, edmd_core::Boundary::Periodic, 3).unwrap();
+    let mut sim = Simulation::new(&discs, bx, Options::default()).unwrap();
+    sim.run_until(20.0, &mut ());
+    assert!(sim.stalled().is_none());
+    assert_eq!(sim.time(), 20.0);
+    assert!(sim.stats().disc_disc > 50_000, "{:?}", sim.stats());
+}

@@ -97,7 +97,7 @@ impl<const D: usize> Simulation<D> {
             let k = (n - done).min(self.chunk_room());
             let got = self.run_chunk(t_limit, k, observer);
             done += got;
-            if self.count_events(got) {
+            if self.count_events(got).is_some() {
                 self.stall_seen(t_limit, observer);
             }
             if got < k {
@@ -202,8 +202,8 @@ impl<const D: usize> Simulation<D> {
             return None;
         }
         let e = self.step_inline(t_limit)?;
-        if self.count_events(1) {
-            self.stall_pending();
+        if let Some(cause) = self.count_events(1) {
+            self.stall_pending(cause);
         }
         Some(e)
     }

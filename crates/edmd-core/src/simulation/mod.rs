@@ -45,7 +45,7 @@ pub use options::{
 pub use persist::{
     checkpoint_dim, is_checkpoint, FORMAT_VERSION as CHECKPOINT_VERSION, MAGIC as CHECKPOINT_MAGIC,
 };
-pub use stall::{Stall, StallCause, MIN_STALL_EVENTS, STALL_EVENTS_PER_DISC};
+pub use stall::{Stall, StallCause, CREEP_EVENTS_SPAN, MIN_STALL_EVENTS, STALL_EVENTS_PER_DISC};
 
 use crate::cells::CellGrid;
 use crate::error::Error;
@@ -116,6 +116,9 @@ pub struct Simulation<const D: usize = 2> {
     below: Vec<u8>,
     /// Mean of `m v^2` over the discs, the demon's yardstick (constant: energy is conserved).
     mean_mv2: f64,
+    /// The stall watcher's creep bound: a chunk of events that moves the clock by no more
+    /// than this counts as standing still (`stall.rs`, `Simulation::creep_span`).
+    creep_span: f64,
     multi: Option<MultiContact>,
     /// The discs of the last multi-disc collision.
     last_cluster: Vec<usize>,
@@ -273,6 +276,7 @@ impl<const D: usize> Simulation<D> {
             barriers: Vec::new(),
             below: Vec::new(),
             mean_mv2: 0.0,
+            creep_span: 0.0,
             multi: options.multi,
             last_cluster: Vec::new(),
             v3: false,
@@ -290,6 +294,7 @@ impl<const D: usize> Simulation<D> {
         } else {
             0.0
         };
+        sim.creep_span = sim.creep_span();
         sim.file_all_in_grid();
         if options.overlaps == OverlapPolicy::Refuse {
             if let Some((disc, barrier)) = sim.barrier_overlap() {

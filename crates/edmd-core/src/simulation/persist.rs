@@ -194,6 +194,7 @@ impl<const D: usize> Simulation<D> {
                 w.u8(match s.cause {
                     StallCause::Clock => 1,
                     StallCause::Cluster => 2,
+                    StallCause::Creep => 3,
                 });
                 w.f64(s.time);
                 w.u64(s.events);
@@ -468,7 +469,7 @@ impl<const D: usize> Simulation<D> {
         };
         let stall = match r.u8()? {
             0 => None,
-            code @ (1 | 2) => {
+            code @ (1..=3) => {
                 let time = r.f64()?;
                 let events = r.u64()?;
                 let count = r.u64()? as usize;
@@ -484,10 +485,10 @@ impl<const D: usize> Simulation<D> {
                     }
                     discs.push(d);
                 }
-                let cause = if code == 1 {
-                    StallCause::Clock
-                } else {
-                    StallCause::Cluster
+                let cause = match code {
+                    1 => StallCause::Clock,
+                    2 => StallCause::Cluster,
+                    _ => StallCause::Creep,
                 };
                 Some(Stall {
                     time,
@@ -532,6 +533,7 @@ impl<const D: usize> Simulation<D> {
             barriers,
             below,
             mean_mv2,
+            creep_span: 0.0,
             multi,
             last_cluster,
             v3: false,
@@ -541,6 +543,7 @@ impl<const D: usize> Simulation<D> {
             stall,
         };
         sim.set_portable_loop(false);
+        sim.creep_span = sim.creep_span();
         // Every run keeps its discs inside their walls (a wall collision puts a disc exactly at
         // contact); one outside would be driven to huge energies by the walls.
         if let Some(&i) = sim.discs_outside(super::OVERLAP_TOLERANCE).first() {

@@ -8,6 +8,14 @@
 //! [`Simulation::stall_limit`] events in a row have happened at one time, and record a
 //! [`Stall`], which [`Simulation::stalled`] returns. The loop then does nothing more.
 //!
+//! The clock can also creep: 400 touching discs filling a box, given random velocities, collide
+//! across gaps of rounding size, so that millions of events move the clock by 1e-12 in all and
+//! the run would take years. A chunk of events that moves the clock by less than
+//! [`CREEP_EVENTS_SPAN`] per event, in units of the time the fastest disc the energy allows
+//! takes to cross the smallest diameter, counts as standing still ([`StallCause::Creep`]). No
+//! fluid comes near it: events that close together need gaps below the overlap tolerance
+//! (`Simulation::creep_span`).
+//!
 //! The loop counts whole chunks of events rather than single events (a chunk in which the time
 //! did not advance adds its events; one in which it did starts the count again), so the count
 //! costs nothing per event and the two compiled copies of the loop are untouched. A stall is
@@ -36,6 +44,10 @@ pub const MIN_STALL_EVENTS: u64 = 1_000_000;
 /// Events in a row at one time per disc that count as a stall (see [`Simulation::stall_limit`]).
 pub const STALL_EVENTS_PER_DISC: u64 = 100;
 
+/// The creep bound per event, in units of `sigma_min / v_max` (the time the fastest disc the
+/// energy allows takes to cross the smallest contact distance): sixteen units of rounding.
+pub const CREEP_EVENTS_SPAN: f64 = 16.0 * f64::EPSILON;
+
 /// A run stopped because its clock stopped advancing.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Stall {
@@ -60,8 +72,13 @@ pub enum StallCause {
     Clock,
     /// A multi-disc collision (`Options::multi`) that did not end within
     /// [`crate::resolve::cluster::MAX_CONTACT_STEPS`]: masses or speeds in contact that differ
-    /// by many orders of magnitude. `Stall::events` is 1; the discs are the cluster's.
+    /// by many orders of magnitude, or discs jammed in contact. `Stall::events` is 1; the
+    /// discs are the cluster's.
     Cluster,
+    /// More than [`Simulation::stall_limit`] events in a row that moved the clock by less than
+    /// [`CREEP_EVENTS_SPAN`] each (see the module's notes): discs jammed at contact, colliding
+    /// across gaps of rounding size.
+    Creep,
 }
 
 impl Stall {
@@ -95,6 +112,11 @@ impl fmt::Display for Stall {
                 self.time,
                 crate::resolve::cluster::MAX_CONTACT_STEPS
             )?,
+            StallCause::Creep => write!(
+                f,
+                "the clock stopped advancing at t = {}: {} events in a row moved it by next to nothing",
+                self.time, self.events
+            )?,
         }
         if !self.discs.is_empty() {
             let names: Vec<String> = self.discs.iter().map(|d| d.to_string()).collect();
@@ -106,10 +128,13 @@ impl fmt::Display for Stall {
             write!(f, ")")?;
         }
         match self.cause {
-            StallCause::Clock => write!(f, "; discs jammed at contact cannot move"),
+            StallCause::Clock | StallCause::Creep => {
+                write!(f, "; discs jammed at contact cannot move")
+            }
             StallCause::Cluster => write!(
                 f,
-                "; their masses or speeds differ too much for multi-disc collisions (run without them)"
+                "; their masses or speeds differ too much for multi-disc collisions, or they are \
+                 jammed at contact (run without multi-disc collisions)"
             ),
         }
     }
@@ -139,29 +164,63 @@ impl<const D: usize> Simulation<D> {
     /// past a chunk's end: [`Self::chunk_room`]), however the run is cut into calls, so that
     /// the count, and so the run and its checkpoints, do not depend on how it was cut. A chunk
     /// in which the clock did not advance adds its events; one in which it did starts the count
-    /// again. Returns true past the limit: the caller then records the stall
+    /// again. Returns the cause past the limit (the clock stood still or crept in the last
+    /// chunk): the caller then records the stall
     /// ([`Self::stall_seen`] or [`Self::stall_pending`]).
     #[inline]
-    pub(super) fn count_events(&mut self, events: u64) -> bool {
+    pub(super) fn count_events(&mut self, events: u64) -> Option<StallCause> {
         self.chunk_events += events;
         if self.chunk_events < STALL_CHUNK {
-            return false;
+            return None;
         }
         self.chunk_events = 0;
-        let advanced = self.event_time != self.chunk_time;
+        let moved = self.event_time - self.chunk_time;
         self.chunk_time = self.event_time;
-        if advanced {
+        if moved > self.creep_span {
             self.still = 0;
-            return false;
+            return None;
         }
         self.still = self.still.saturating_add(STALL_CHUNK);
-        self.still > self.stall_limit()
+        (self.still > self.stall_limit()).then_some(if moved == 0.0 {
+            StallCause::Clock
+        } else {
+            StallCause::Creep
+        })
     }
 
     /// Events left in the stall watcher's current chunk.
     #[inline]
     pub(super) fn chunk_room(&self) -> u64 {
         STALL_CHUNK - self.chunk_events
+    }
+
+    /// The creep bound of a chunk: [`STALL_CHUNK`] events of [`CREEP_EVENTS_SPAN`]
+    /// `sigma_min / v_max` each, `v_max` the speed of the lightest disc holding all the kinetic
+    /// energy (energy is conserved, so no disc is ever faster). Worked out from the state a
+    /// checkpoint restores exactly (radii, masses, and the mean `m v^2` kept from the start), so
+    /// a continued run counts as the original did. Zero (no creep test) without motion or
+    /// without size.
+    ///
+    /// Why no fluid is near it: events `CREEP_EVENTS_SPAN sigma_min / v_max` apart on average
+    /// need, even for 10^6 discs colliding in turn, gaps below `10^-9` of a diameter: the overlap
+    /// tolerance. The same run at any larger gap is merely slow.
+    pub(super) fn creep_span(&self) -> f64 {
+        let n = self.body.len();
+        let sigma_min = 2.0
+            * self
+                .body
+                .iter()
+                .map(|b| b.radius)
+                .fold(f64::INFINITY, f64::min);
+        let m_min = self.mass.iter().copied().fold(f64::INFINITY, f64::min);
+        // mean_mv2 = 4 KE / n, so the fastest speed is sqrt(2 KE / m_min).
+        let v_max = (self.mean_mv2 * n as f64 / (2.0 * m_min)).sqrt();
+        let span = STALL_CHUNK as f64 * CREEP_EVENTS_SPAN * sigma_min / v_max;
+        if span.is_finite() && span > 0.0 {
+            span
+        } else {
+            0.0
+        }
     }
 
     /// Past the limit in the loop: runs up to [`STALL_SAMPLE`] more events (shown to
@@ -177,7 +236,7 @@ impl<const D: usize> Simulation<D> {
                 return;
             };
             observer.on_event(&e, self);
-            if self.event_time != t {
+            if self.event_time - t > self.creep_span {
                 self.still = 0;
                 return;
             }
@@ -192,32 +251,39 @@ impl<const D: usize> Simulation<D> {
         }
         discs.sort_unstable();
         discs.dedup();
-        self.record_stall(discs);
+        let cause = if self.event_time == t {
+            StallCause::Clock
+        } else {
+            StallCause::Creep
+        };
+        self.record_stall(discs, cause);
     }
 
     /// Past the limit in [`Self::step`], which has no observer to show more events to: records
-    /// the stall naming the discs whose next event is at the stalled time.
+    /// the stall naming the discs whose next event is at the stalled time (within the creep
+    /// bound of a chunk, when the clock was creeping).
     #[cold]
     #[inline(never)]
-    pub(super) fn stall_pending(&mut self) {
+    pub(super) fn stall_pending(&mut self, cause: StallCause) {
         let t = self.event_time;
         let discs = (0..self.body.len())
-            .filter(|&i| self.queue.get(i) == t)
+            .filter(|&i| {
+                let dt = self.queue.get(i) - t;
+                match cause {
+                    StallCause::Creep => dt <= self.creep_span,
+                    _ => dt == 0.0,
+                }
+            })
             .collect();
-        self.record_stall(discs);
+        self.record_stall(discs, cause);
     }
 
-    fn record_stall(&mut self, discs: Vec<usize>) {
+    fn record_stall(&mut self, discs: Vec<usize>, cause: StallCause) {
         if self.stall.is_some() {
             // A multi-disc collision given up stopped the run first.
             return;
         }
-        self.stall = Some(Stall::new(
-            self.event_time,
-            self.still,
-            discs,
-            StallCause::Clock,
-        ));
+        self.stall = Some(Stall::new(self.event_time, self.still, discs, cause));
     }
 
     /// Records that the multi-disc collision of `discs` at time `t` was given up.
