@@ -154,42 +154,59 @@ pub fn build_with_hint<const D: usize>(
         )
     };
     Simulation::with_barriers(&sys.discs, sys.sim_box, &sys.barriers, options).or_else(|e| {
-        let line = |i: usize| sys.lines.get(i).copied().unwrap_or(0);
-        let msg = match e {
-            EngineError::Overlap { i, j, overlap, count } => format!(
-                "{path}:{}: this disc overlaps the disc on line {} by {overlap:.3e} of their contact distance ({count} overlapping pair(s) in all; {overlap_hint})",
-                line(j),
-                line(i)
-            ),
-            EngineError::OutsideBox { first, count } => format!(
-                "{path}:{}: this disc is not inside the box ({count} such disc(s) in all; {outside_hint})",
-                line(first)
-            ),
-            EngineError::BadDisc { index, what } => format!("{path}:{}: {what}", line(index)),
-            EngineError::DiscFillsBox {
-                index,
-                axis,
-                diameter,
-                length,
-            } => format!(
-                "{path}:{}: diameter {diameter} does not fit in the box: it is not less than the box's {} length {length}, between walls (a disc that reaches from wall to wall cannot move)",
-                line(index),
-                ["x", "y", "z"].get(axis).unwrap_or(&"?")
-            ),
-            EngineError::SwapNeedsEqualMasses { index, mass, mass0 } => format!(
-                "{path}:{}: the swap rule needs equal masses, but this disc has mass {mass} and the first has {mass0}",
-                line(index)
-            ),
-            EngineError::BarrierOverlap { disc, barrier } => format!(
-                "{path}:{}: this disc cuts into barrier {} (the {} '# edmd barrier' line)",
-                line(disc),
-                barrier + 1,
-                ordinal(barrier + 1)
-            ),
-            other => format!("{path}: {other}"),
-        };
-        user_error(msg)
+        user_error(refusal_at_line(
+            path,
+            &sys.lines,
+            e,
+            (overlap_hint, outside_hint),
+        ))
     })
+}
+
+/// The engine's refusal of the discs read from `path` as one line naming the offending disc's
+/// line in the file (`lines[i]` is disc `i`'s line; `0` when unknown); `hints` (for an overlap,
+/// for a disc outside the box) end those two messages with what to do. `edmd run`, `render`,
+/// `particles` and `pack` all say it this way.
+pub fn refusal_at_line(
+    path: &str,
+    lines: &[usize],
+    e: EngineError,
+    (overlap_hint, outside_hint): (&str, &str),
+) -> String {
+    let line = |i: usize| lines.get(i).copied().unwrap_or(0);
+    match e {
+        EngineError::Overlap { i, j, overlap, count } => format!(
+            "{path}:{}: this disc overlaps the disc on line {} by {overlap:.3e} of their contact distance ({count} overlapping pair(s) in all; {overlap_hint})",
+            line(j),
+            line(i)
+        ),
+        EngineError::OutsideBox { first, count } => format!(
+            "{path}:{}: this disc is not inside the box ({count} such disc(s) in all; {outside_hint})",
+            line(first)
+        ),
+        EngineError::BadDisc { index, what } => format!("{path}:{}: {what}", line(index)),
+        EngineError::DiscFillsBox {
+            index,
+            axis,
+            diameter,
+            length,
+        } => format!(
+            "{path}:{}: diameter {diameter} does not fit in the box: it is not less than the box's {} length {length}, between walls (a disc that reaches from wall to wall cannot move)",
+            line(index),
+            ["x", "y", "z"].get(axis).unwrap_or(&"?")
+        ),
+        EngineError::SwapNeedsEqualMasses { index, mass, mass0 } => format!(
+            "{path}:{}: the swap rule needs equal masses, but this disc has mass {mass} and the first has {mass0}",
+            line(index)
+        ),
+        EngineError::BarrierOverlap { disc, barrier } => format!(
+            "{path}:{}: this disc cuts into barrier {} (the {} '# edmd barrier' line)",
+            line(disc),
+            barrier + 1,
+            ordinal(barrier + 1)
+        ),
+        other => format!("{path}: {other}"),
+    }
 }
 
 /// "1st", "2nd", "3rd", "4th", ...
