@@ -55,32 +55,65 @@ pub fn read_text(path: &str) -> Result<String> {
             Err(e) if e.error_len().is_none() => checked + e.valid_up_to(),
             Err(e) => {
                 let bad = checked + e.valid_up_to();
-                scan(path, &bytes[checked..bad], &mut line, &mut line_len)?;
-                return user_error(format!("{path}:{line}: not a text file (invalid UTF-8)"));
+                scan(path, &bytes[checked..bad], &mut line, &mut line_len)
+                    .or_else(|msg| not_text(path, &bytes, msg))?;
+                return not_text(
+                    path,
+                    &bytes,
+                    format!("{path}:{line}: not a text file (invalid UTF-8)"),
+                );
             }
         };
-        scan(path, &bytes[checked..valid_to], &mut line, &mut line_len)?;
+        scan(path, &bytes[checked..valid_to], &mut line, &mut line_len)
+            .or_else(|msg| not_text(path, &bytes, msg))?;
         checked = valid_to;
     }
     if checked < bytes.len() {
-        return user_error(format!("{path}:{line}: not a text file (invalid UTF-8)"));
+        return not_text(
+            path,
+            &bytes,
+            format!("{path}:{line}: not a text file (invalid UTF-8)"),
+        );
     }
     Ok(String::from_utf8(bytes).expect("checked"))
 }
 
-/// Counts lines in valid text, refusing NUL bytes and over-long lines.
-fn scan(path: &str, text: &[u8], line: &mut usize, line_len: &mut usize) -> Result<()> {
+/// Refuses a file that is not text (`msg` says why), or, when it is one of edmd's own
+/// checkpoints (they are binary), says so and what continues it: a data file was expected.
+fn not_text<T>(path: &str, bytes: &[u8], msg: String) -> Result<T> {
+    user_error(checkpoint_kind(path, bytes).unwrap_or(msg))
+}
+
+/// What a file starting with `start` is when it is an edmd checkpoint (a run's or a
+/// packing's), with the command that continues it; `None` for any other file.
+pub fn checkpoint_kind(path: &str, start: &[u8]) -> Option<String> {
+    if start.starts_with(edmd_core::CHECKPOINT_MAGIC) {
+        Some(format!(
+            "{path}: an edmd run checkpoint, not a data file: `edmd run {path}` continues it"
+        ))
+    } else if edmd_core::pack::is_pack_checkpoint(start) {
+        Some(format!(
+            "{path}: an edmd packing checkpoint, not a data file: `edmd pack {path} -o OUT` continues it"
+        ))
+    } else {
+        None
+    }
+}
+
+/// Counts lines in valid text, refusing NUL bytes and over-long lines (the message naming the
+/// line).
+fn scan(path: &str, text: &[u8], line: &mut usize, line_len: &mut usize) -> Result<(), String> {
     for &b in text {
         match b {
             b'\n' => {
                 *line += 1;
                 *line_len = 0;
             }
-            0 => return user_error(format!("{path}:{line}: not a text file (NUL byte)")),
+            0 => return Err(format!("{path}:{line}: not a text file (NUL byte)")),
             _ => {
                 *line_len += 1;
                 if *line_len > MAX_LINE {
-                    return user_error(format!(
+                    return Err(format!(
                         "{path}:{line}: the line is longer than {} KiB",
                         MAX_LINE / 1024
                     ));
@@ -154,42 +187,59 @@ pub fn build_with_hint<const D: usize>(
         )
     };
     Simulation::with_barriers(&sys.discs, sys.sim_box, &sys.barriers, options).or_else(|e| {
-        let line = |i: usize| sys.lines.get(i).copied().unwrap_or(0);
-        let msg = match e {
-            EngineError::Overlap { i, j, overlap, count } => format!(
-                "{path}:{}: this disc overlaps the disc on line {} by {overlap:.3e} of their contact distance ({count} overlapping pair(s) in all; {overlap_hint})",
-                line(j),
-                line(i)
-            ),
-            EngineError::OutsideBox { first, count } => format!(
-                "{path}:{}: this disc is not inside the box ({count} such disc(s) in all; {outside_hint})",
-                line(first)
-            ),
-            EngineError::BadDisc { index, what } => format!("{path}:{}: {what}", line(index)),
-            EngineError::DiscFillsBox {
-                index,
-                axis,
-                diameter,
-                length,
-            } => format!(
-                "{path}:{}: diameter {diameter} does not fit in the box: it is not less than the box's {} length {length}, between walls (a disc that reaches from wall to wall cannot move)",
-                line(index),
-                ["x", "y", "z"].get(axis).unwrap_or(&"?")
-            ),
-            EngineError::SwapNeedsEqualMasses { index, mass, mass0 } => format!(
-                "{path}:{}: the swap rule needs equal masses, but this disc has mass {mass} and the first has {mass0}",
-                line(index)
-            ),
-            EngineError::BarrierOverlap { disc, barrier } => format!(
-                "{path}:{}: this disc cuts into barrier {} (the {} '# edmd barrier' line)",
-                line(disc),
-                barrier + 1,
-                ordinal(barrier + 1)
-            ),
-            other => format!("{path}: {other}"),
-        };
-        user_error(msg)
+        user_error(refusal_at_line(
+            path,
+            &sys.lines,
+            e,
+            (overlap_hint, outside_hint),
+        ))
     })
+}
+
+/// The engine's refusal of the discs read from `path` as one line naming the offending disc's
+/// line in the file (`lines[i]` is disc `i`'s line; `0` when unknown); `hints` (for an overlap,
+/// for a disc outside the box) end those two messages with what to do. `edmd run`, `render`,
+/// `particles` and `pack` all say it this way.
+pub fn refusal_at_line(
+    path: &str,
+    lines: &[usize],
+    e: EngineError,
+    (overlap_hint, outside_hint): (&str, &str),
+) -> String {
+    let line = |i: usize| lines.get(i).copied().unwrap_or(0);
+    match e {
+        EngineError::Overlap { i, j, overlap, count } => format!(
+            "{path}:{}: this disc overlaps the disc on line {} by {overlap:.3e} of their contact distance ({count} overlapping pair(s) in all; {overlap_hint})",
+            line(j),
+            line(i)
+        ),
+        EngineError::OutsideBox { first, count } => format!(
+            "{path}:{}: this disc is not inside the box ({count} such disc(s) in all; {outside_hint})",
+            line(first)
+        ),
+        EngineError::BadDisc { index, what } => format!("{path}:{}: {what}", line(index)),
+        EngineError::DiscFillsBox {
+            index,
+            axis,
+            diameter,
+            length,
+        } => format!(
+            "{path}:{}: diameter {diameter} does not fit in the box: it is not less than the box's {} length {length}, between walls (a disc that reaches from wall to wall cannot move)",
+            line(index),
+            ["x", "y", "z"].get(axis).unwrap_or(&"?")
+        ),
+        EngineError::SwapNeedsEqualMasses { index, mass, mass0 } => format!(
+            "{path}:{}: the swap rule needs equal masses, but this disc has mass {mass} and the first has {mass0}",
+            line(index)
+        ),
+        EngineError::BarrierOverlap { disc, barrier } => format!(
+            "{path}:{}: this disc cuts into barrier {} (the {} '# edmd barrier' line)",
+            line(disc),
+            barrier + 1,
+            ordinal(barrier + 1)
+        ),
+        other => format!("{path}: {other}"),
+    }
 }
 
 /// "1st", "2nd", "3rd", "4th", ...

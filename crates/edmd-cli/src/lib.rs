@@ -68,6 +68,35 @@ pub fn run_until<const D: usize, O: edmd_core::Observer<D>>(
     check_stall(sim)
 }
 
+/// Events run between two looks at the stop flag in [`run_until_or_stop`] (and `edmd run`):
+/// a fraction of a second at the engine's speed.
+pub const STOP_CHECK_EVENTS: u64 = 100_000;
+
+/// [`run_until`], in slices of [`STOP_CHECK_EVENTS`] events with a look at the stop flag
+/// (Ctrl-C, SIGTERM: [`commands::experiment::common::stop_requested`]) after each, so that a
+/// long stretch between two outputs can be interrupted. Returns `Ok(false)` when a stop was
+/// requested (the simulation is then somewhere before `t`), `Ok(true)` when it reached `t`.
+/// Positions are computed on demand, so the slices do not change the trajectory: without a
+/// stop the state at `t` is bit for bit that of [`run_until`].
+pub fn run_until_or_stop<const D: usize, O: edmd_core::Observer<D>>(
+    sim: &mut edmd_core::Simulation<D>,
+    t: f64,
+    observer: &mut O,
+) -> anyhow::Result<bool> {
+    loop {
+        let more = sim.run_events_to(t, STOP_CHECK_EVENTS, observer) == STOP_CHECK_EVENTS;
+        check_stall(sim)?;
+        if commands::experiment::common::stop_requested() {
+            return Ok(false);
+        }
+        if !more {
+            break;
+        }
+    }
+    run_until(sim, t, observer)?;
+    Ok(true)
+}
+
 /// [`edmd_core::Simulation::run_events`] (without an observer), then [`check_stall`]; also
 /// fails when no event is left at all, so that a loop waiting for a number of collisions always
 /// ends. Returns how many events were processed.

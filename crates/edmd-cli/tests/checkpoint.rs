@@ -225,3 +225,69 @@ fn damaged_or_misused_checkpoints_are_refused_in_one_line() {
     );
     assert_eq!(std::fs::read(&data).unwrap(), std::fs::read(&gas).unwrap());
 }
+
+// `edmd render`, `particles` and `edmd view` given an edmd checkpoint (a binary file) said
+// "not a text file (NUL byte)" instead of what the file is and what continues it.
+#[test]
+fn a_checkpoint_given_for_a_data_file_is_named_with_what_continues_it() {
+    let dir = tempfile::tempdir().unwrap();
+    let p = |name: &str| dir.path().join(name).to_str().unwrap().to_owned();
+    let gas = crate::support::example("gas-300.txt");
+    ok_stdout(&run(
+        "edmd",
+        &[
+            "run",
+            gas.to_str().unwrap(),
+            "--until",
+            "0.1",
+            "--checkpoint",
+            &p("run.ck"),
+        ],
+        None,
+    ));
+    ok_stdout(&run(
+        "edmd",
+        &[
+            "pack",
+            "--n",
+            "20",
+            "--packing",
+            "0.3",
+            "-o",
+            &p("packed.txt"),
+            "--checkpoint",
+            &p("pack.ck"),
+            "--checkpoint-every",
+            "0",
+        ],
+        None,
+    ));
+    let run_ck = p("run.ck");
+    let pack_ck = p("pack.ck");
+    let gif = p("out.gif");
+    let said_run = format!(
+        "{run_ck}: an edmd run checkpoint, not a data file: `edmd run {run_ck}` continues it"
+    );
+    let said_pack = format!("{pack_ck}: an edmd packing checkpoint, not a data file: `edmd pack {pack_ck} -o OUT` continues it");
+    for (program, args, said) in [
+        (
+            "edmd",
+            vec!["render", &run_ck, "-o", &gif, "--until", "1"],
+            &said_run,
+        ),
+        (
+            "edmd",
+            vec!["render", &pack_ck, "-o", &gif, "--until", "1"],
+            &said_pack,
+        ),
+        ("particles", vec![&run_ck, "1"], &said_run),
+        ("particles", vec![&pack_ck, "1"], &said_pack),
+    ] {
+        let out = run(program, &args, None);
+        crate::support::refused(&out, &[said.as_str()]);
+    }
+    assert!(!std::path::Path::new(&gif).exists());
+    // `edmd pack` continues its own checkpoints and names a run's.
+    let out = run("edmd", &["pack", &run_ck, "-o", &p("x.txt")], None);
+    crate::support::refused(&out, &["run.ck: a run checkpoint (edmd run continues it)"]);
+}

@@ -326,6 +326,60 @@ fn signals_during_render_leave_no_partial_output() {
     }
 }
 
+// SIGTERM during `render` was heeded only between frames: with frames far apart in simulated
+// time (`p2000.txt --until 500000 --fps 1 --time-scale 50000`, 18 s a frame in a release
+// build) the program went on for the rest of the frame.
+#[test]
+fn sigterm_during_a_long_render_frame_stops_within_seconds() {
+    for out in ["movie.gif", "frames/"] {
+        let dir = tempfile::tempdir().unwrap();
+        std::fs::copy(shared("algs4/p2000.txt"), dir.path().join("in.txt")).unwrap();
+        let mut child = Command::new(env!("CARGO_BIN_EXE_edmd"))
+            .args([
+                "render",
+                "in.txt",
+                "-o",
+                out,
+                "--until",
+                "500000",
+                "--fps",
+                "1",
+                "--time-scale",
+                "50000",
+            ])
+            .current_dir(dir.path())
+            .stdin(Stdio::null())
+            .stdout(Stdio::null())
+            .stderr(Stdio::piped())
+            .spawn()
+            .unwrap();
+        std::thread::sleep(Duration::from_millis(1000));
+        assert!(child.try_wait().unwrap().is_none(), "render ended early");
+        let sent = std::time::Instant::now();
+        assert!(Command::new("kill")
+            .args(["-TERM", &child.id().to_string()])
+            .status()
+            .unwrap()
+            .success());
+        let status = loop {
+            if let Some(s) = child.try_wait().unwrap() {
+                break s;
+            }
+            if sent.elapsed() > Duration::from_secs(5) {
+                let _ = child.kill();
+                let _ = child.wait();
+                panic!("{out}: render did not stop within 5 s of SIGTERM");
+            }
+            std::thread::sleep(Duration::from_millis(20));
+        };
+        let mut err = String::new();
+        std::io::Read::read_to_string(&mut child.stderr.take().unwrap(), &mut err).unwrap();
+        assert!(!status.success(), "{out}");
+        assert!(err.contains("interrupted"), "{out}: {err}");
+        assert_eq!(names(dir.path()), ["in.txt"], "{out}");
+    }
+}
+
 // 4. `--until 7.4e17` or `--fps 1e300` overflowed the frame count: "0 frames", a 39-byte GIF,
 // exit 0.
 #[test]

@@ -344,3 +344,37 @@ fn bad_packing_checkpoints_and_options_beside_them_are_refused_in_one_line() {
     );
     assert!(!std::path::Path::new(&out).exists());
 }
+
+// A start file with a disc outside the box or two overlapping discs was refused as "disc 0 is
+// outside the box" or "discs 9 and 10 overlap", without the file or the line; and
+// `--packing 1e-300` was printed as a 300-digit decimal.
+#[test]
+fn a_refused_start_names_its_file_and_line() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out.txt");
+    let out = out.to_str().unwrap();
+    for (file, words) in [
+        (
+            "algs4/billiards-overflow.txt",
+            &["billiards-overflow.txt:5: this disc is not inside the box"][..],
+        ),
+        (
+            "algs4/diffusion3.txt",
+            &["diffusion3.txt:12: this disc overlaps the disc on line 11"][..],
+        ),
+    ] {
+        let f = crate::support::shared(file);
+        refused(
+            &run("edmd", &["pack", f.to_str().unwrap(), "-o", out], None),
+            words,
+        );
+        assert!(!std::path::Path::new(out).exists());
+    }
+    let out = run(
+        "edmd",
+        &["pack", "--n", "10", "--packing", "1e-300", "-o", out],
+        None,
+    );
+    refused(&out, &["1e-300"]);
+    assert!(String::from_utf8_lossy(&out.stderr).len() < 200);
+}

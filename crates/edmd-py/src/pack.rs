@@ -217,6 +217,7 @@ pub fn pack<'py>(
             what: "start",
             start,
             barriers,
+            lines: Vec::new(),
         }
     });
     let given = match resumed {
@@ -225,6 +226,7 @@ pub fn pack<'py>(
             what: &resume_name,
             start: Start::Checkpoint(bytes),
             barriers: false,
+            lines: Vec::new(),
         }),
         None => given,
     };

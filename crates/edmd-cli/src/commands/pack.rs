@@ -14,7 +14,7 @@ use edmd_core::pack::{
     contacts, gap_tolerance, random_start, PackOptions, PackSizes, Packer, Packing, Status, Stop,
 };
 use edmd_core::setup::thermal_velocities;
-use edmd_core::{Boundary, Disc, SimBox, Vector};
+use edmd_core::{Boundary, Disc, Error as EngineError, SimBox, Vector};
 use edmd_io::princeton::ColumnOrder;
 use edmd_io::Format;
 use rand::SeedableRng;
@@ -23,7 +23,7 @@ use serde::{Deserialize, Serialize};
 use crate::args::BoundaryArg;
 use crate::commands::experiment::common::MAX_N;
 use crate::commands::run::{read_file_starting, read_magic, write_checkpoint};
-use crate::input::{load_any, read_text};
+use crate::input::{load_any, read_text, refusal_at_line};
 use crate::output::{check_distinct, AtomicFile};
 use crate::user_error;
 
@@ -154,6 +154,9 @@ pub struct Given<'a> {
     pub start: Start,
     /// Whether it has barriers (pack refuses them).
     pub barriers: bool,
+    /// The line of each particle in the file (`lines[i]` for particle `i`), so that a refused
+    /// start names the line; empty when the start is not a file.
+    pub lines: Vec<usize>,
 }
 
 /// A compressed packing and its summary (`output` left empty).
@@ -186,30 +189,34 @@ pub fn run(args: &PackArgs) -> Result<()> {
     let what = args.file.as_ref().map(|f| format!("the file {f}"));
     let given = match &args.file {
         Some(path) => match read_pack_checkpoint(Path::new(path))? {
-            Some(bytes) => Some((path.as_str(), Start::Checkpoint(bytes), false)),
+            Some(bytes) => Some((path.as_str(), Start::Checkpoint(bytes), false, Vec::new())),
             None => {
                 refuse_random_options(args, what.as_deref().unwrap_or_default())?;
                 let text = read_text(path)?;
-                let (start, barriers) = match load_any(path, &text, None, ColumnOrder::RadiusMass)?
-                {
-                    edmd_io::AnyLoaded::Two(sys) => {
-                        (Start::Two(sys.discs, sys.sim_box), !sys.barriers.is_empty())
-                    }
-                    edmd_io::AnyLoaded::Three(sys) => (
-                        Start::Three(sys.discs, sys.sim_box),
-                        !sys.barriers.is_empty(),
-                    ),
-                };
-                Some((path.as_str(), start, barriers))
+                let (start, barriers, lines) =
+                    match load_any(path, &text, None, ColumnOrder::RadiusMass)? {
+                        edmd_io::AnyLoaded::Two(sys) => (
+                            Start::Two(sys.discs, sys.sim_box),
+                            !sys.barriers.is_empty(),
+                            sys.lines,
+                        ),
+                        edmd_io::AnyLoaded::Three(sys) => (
+                            Start::Three(sys.discs, sys.sim_box),
+                            !sys.barriers.is_empty(),
+                            sys.lines,
+                        ),
+                    };
+                Some((path.as_str(), start, barriers, lines))
             }
         },
         None => None,
     };
-    let given = given.map(|(name, start, barriers)| Given {
+    let given = given.map(|(name, start, barriers, lines)| Given {
         name,
         what: what.as_deref().unwrap_or_default(),
         start,
         barriers,
+        lines,
     });
     crate::commands::experiment::common::install_ctrlc();
     let bar = progress_bar();
@@ -315,12 +322,14 @@ pub fn pack(
             match given.start {
                 Start::Two(discs, sim_box) => {
                     let discs = at_speed(args, given.name, discs)?;
-                    let (p, s) = compress(args, discs, sim_box, options, progress)?;
+                    let at = Some((given.name, &given.lines[..]));
+                    let (p, s) = compress(args, at, discs, sim_box, options, progress)?;
                     Ok(Packed::Two(p, s))
                 }
                 Start::Three(discs, sim_box) => {
                     let discs = at_speed(args, given.name, discs)?;
-                    let (p, s) = compress(args, discs, sim_box, options, progress)?;
+                    let at = Some((given.name, &given.lines[..]));
+                    let (p, s) = compress(args, at, discs, sim_box, options, progress)?;
                     Ok(Packed::Three(p, s))
                 }
                 Start::Checkpoint(_) => unreachable!("continued above"),
@@ -344,13 +353,13 @@ pub fn pack(
                 3 => {
                     let (discs, sim_box) = random_start::<3>(n, sizes, boundary, seed(args))
                         .or_else(|e| user_error(e.to_string()))?;
-                    let (p, s) = compress(args, discs, sim_box, options, progress)?;
+                    let (p, s) = compress(args, None, discs, sim_box, options, progress)?;
                     Ok(Packed::Three(p, s))
                 }
                 _ => {
                     let (discs, sim_box) = random_start::<2>(n, sizes, boundary, seed(args))
                         .or_else(|e| user_error(e.to_string()))?;
-                    let (p, s) = compress(args, discs, sim_box, options, progress)?;
+                    let (p, s) = compress(args, None, discs, sim_box, options, progress)?;
                     Ok(Packed::Two(p, s))
                 }
             }
@@ -482,15 +491,32 @@ fn at_speed<const D: usize>(
     Ok(discs)
 }
 
-/// Compresses and analyses.
+/// Compresses and analyses. `at` is the file the discs were read from and each disc's line
+/// there, named when the packer refuses a disc.
 fn compress<const D: usize>(
     args: &PackArgs,
+    at: Option<(&str, &[usize])>,
     discs: Vec<Disc<D>>,
     sim_box: SimBox<D>,
     options: PackOptions,
     progress: impl FnMut(&Status) -> bool,
 ) -> Result<(Packing<D>, Summary)> {
-    let packer = Packer::new(&discs, sim_box, options).or_else(|e| user_error(e.to_string()))?;
+    let packer = Packer::new(&discs, sim_box, options).or_else(|e| {
+        user_error(match at {
+            Some((path, lines)) if !lines.is_empty() && !matches!(e, EngineError::Invalid(_)) => {
+                refusal_at_line(
+                    path,
+                    lines,
+                    e,
+                    (
+                        "pack needs a start without overlaps",
+                        "pack needs every disc inside the box",
+                    ),
+                )
+            }
+            _ => e.to_string(),
+        })
+    })?;
     drive(args, packer, seed(args), 0.0, progress)
 }
 

@@ -3,7 +3,8 @@
 //! The frames are drawn by `edmd_draw`, the same code the viewer uses, at simulated times
 //! `t0 + k * time_scale / fps` for `k = 0, 1, ...` up to `--until` (`t0` is the time a state
 //! file carries, `# edmd time`, or 0; `--until` is absolute, as in `edmd run`; the event loop runs between
-//! frames, so motion is exact in every frame). The output kind follows `OUT`: `*.gif` an
+//! frames, so motion is exact in every frame, and looks at the stop flag every 100 000 events,
+//! so a signal is heeded within a frame too). The output kind follows `OUT`: `*.gif` an
 //! animated GIF, `*.mp4` an H.264 video made by piping raw frames to `ffmpeg` (which must be
 //! installed), and a folder of numbered PNG files when `OUT` ends with `/` or has no extension
 //! and is a new or an empty folder. Anything else (`out.png`, a folder with files in it) is
@@ -357,7 +358,11 @@ fn render_in<const D: usize>(
             anyhow::bail!("interrupted at frame {k} of {frames}: nothing written");
         }
         let t = t0 + (k as f64 * args.time_scale / args.fps).min(span);
-        crate::run_until(&mut sim, t, &mut ())?;
+        // Frames far apart in simulated time can take minutes each: the stop flag is also
+        // looked at while running to the frame.
+        if !crate::run_until_or_stop(&mut sim, t, &mut ())? {
+            anyhow::bail!("interrupted before frame {k} of {frames}: nothing written");
+        }
         picture(&sim, &mut pixmap);
         match &mut sink {
             Sink::Gif(enc) => {

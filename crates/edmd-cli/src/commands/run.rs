@@ -673,7 +673,7 @@ fn run_to<const D: usize, O: Observer<D>>(
     obs: &mut O,
     file: &str,
 ) -> Result<()> {
-    const CHUNK: u64 = 100_000;
+    const CHUNK: u64 = crate::STOP_CHECK_EVENTS;
     loop {
         let more = sim.run_events_to(t, CHUNK, obs) == CHUNK;
         if let Some(s) = sim.stalled() {

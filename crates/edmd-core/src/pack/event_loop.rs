@@ -170,7 +170,7 @@ impl<const D: usize> Packer<D> {
             let phi = packer.packing_fraction();
             if target <= phi {
                 return Err(Error::Invalid(format!(
-                    "pack: the target packing fraction {target} is not above the start's {phi}"
+                    "pack: the target packing fraction {target:?} is not above the start's {phi:?}"
                 )));
             }
         }

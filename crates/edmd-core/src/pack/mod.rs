@@ -111,7 +111,7 @@ impl PackOptions {
         }
         if let Some(phi) = self.target_packing {
             if !(phi > 0.0 && phi < 1.0) {
-                return bad(format!("target packing fraction {phi} is outside (0, 1)"));
+                return bad(format!("target packing fraction {phi:?} is outside (0, 1)"));
             }
         }
         if !(self.collisions_per_rescale >= 0.01 && self.collisions_per_rescale <= 1e6) {
