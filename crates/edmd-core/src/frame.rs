@@ -63,7 +63,10 @@ pub(crate) fn open<'a>(bytes: &'a [u8], kind: &Kind) -> Result<(usize, u32, &'a 
     let version = word(8);
     if version != kind.version && !kind.older.contains(&version) {
         let newest = kind.version;
-        return bad(if version > newest {
+        // Far beyond this build's version, a newer edmd is less likely than a damaged header.
+        return bad(if version > newest.saturating_add(1000) {
+            format!("format version {version}: no edmd writes that; the file is corrupted")
+        } else if version > newest {
             format!("format version {version} is newer than this edmd reads ({newest}); use a newer edmd")
         } else {
             format!("format version {version} is not one this edmd reads ({newest})")
