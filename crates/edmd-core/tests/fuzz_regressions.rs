@@ -573,3 +573,31 @@ fn pack_checkpoint_with_a_particle_far_faster_than_the_rescaling_leaves_is_refus
         other => panic!("{:?}", other.err()),
     }
 }
+
+/// Found by fuzzing (`read_checkpoint`): a checkpoint whose disc has crossed the periodic
+/// boundary `i32::MAX` times panicked (in builds with overflow checks) at its next crossing,
+/// where the image count was stepped on with `-=`. Image counts now wrap, as the other
+/// counters do; the positions and the trajectory do not depend on them.
+#[test]
+fn image_count_at_its_limit_wraps_at_the_next_crossing() {
+    let disc = Disc::new(Vector::new([9.5, 5.0]), Vector::new([1.0, 0.0]), 0.25);
+    let mut sim =
+        Simulation::new(&[disc], SimBox::periodic([10.0, 10.0]), Options::default()).unwrap();
+    sim.run_until(21.0, &mut ());
+    assert_eq!(sim.unwrapped_position(0)[0], 30.5);
+    let good = sim.to_checkpoint(b"");
+    // Species 0, then the images (3, 0), each a u32.
+    let pattern: Vec<u8> = [0u32, 3, 0].iter().flat_map(|x| x.to_le_bytes()).collect();
+    let at = (0..good.len() - 12)
+        .filter(|&k| good[k..k + 12] == pattern[..])
+        .collect::<Vec<_>>();
+    assert_eq!(at.len(), 1, "{at:?}");
+    let mut bad = good.clone();
+    bad[at[0] + 4..at[0] + 8].copy_from_slice(&i32::MAX.to_le_bytes());
+    let end = bad.len() - 4;
+    let crc = crc32fast::hash(&bad[..end]);
+    bad[end..].copy_from_slice(&crc.to_le_bytes());
+    let (mut sim, _) = Simulation::<2>::from_checkpoint(&bad).unwrap();
+    sim.run_until(35.0, &mut ());
+    assert_eq!(sim.position(0)[0], 4.5);
+}
