@@ -42,6 +42,21 @@ pub(crate) const PACK: Kind = Kind {
 
 const KINDS: [&Kind; 2] = [&RUN, &PACK];
 
+/// [`open`] for a reader of dimension `D`: refuses a checkpoint of the other dimension, and
+/// returns the format version and the payload.
+pub(crate) fn open_as<'a, const D: usize>(
+    bytes: &'a [u8],
+    kind: &Kind,
+) -> Result<(u32, &'a [u8]), Error> {
+    let (dim, version, payload) = open(bytes, kind)?;
+    if dim != D {
+        return Err(Error::Checkpoint(format!(
+            "a {dim}D checkpoint, read as {D}D"
+        )));
+    }
+    Ok((version, payload))
+}
+
 /// Checks the frame of a checkpoint of `kind` and returns the dimension, the format version and
 /// the payload.
 pub(crate) fn open<'a>(bytes: &'a [u8], kind: &Kind) -> Result<(usize, u32, &'a [u8]), Error> {

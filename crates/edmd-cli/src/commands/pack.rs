@@ -379,18 +379,13 @@ fn resume(
     bytes: &[u8],
     progress: impl FnMut(&Status) -> bool,
 ) -> Result<Packed> {
-    for (flag, set) in [
-        ("dim", args.dim.is_some()),
-        ("n", args.n.is_some()),
-        ("size-ratio", args.size_ratio.is_some()),
-        ("fraction-large", args.fraction_large.is_some()),
-        ("polydispersity", args.polydispersity.is_some()),
-        ("boundary", args.boundary.is_some()),
+    let compression = [
         ("growth-rate", args.growth_rate.is_some()),
         ("pressure", args.pressure.is_some()),
         ("packing", args.packing.is_some()),
         ("seed", args.seed.is_some()),
-    ] {
+    ];
+    for (flag, set) in random_start_options(args).into_iter().chain(compression) {
         if set {
             return user_error(format!(
                 "pack: --{flag} is carried by the checkpoint {name}; drop it to continue"
@@ -422,16 +417,21 @@ fn resume(
     }
 }
 
-/// Refuses the options of a random start when a start is given (`what` names it).
-fn refuse_random_options(args: &PackArgs, what: &str) -> Result<()> {
-    for (flag, set) in [
+/// The options that describe a random start, and whether each was given.
+fn random_start_options(args: &PackArgs) -> [(&'static str, bool); 6] {
+    [
         ("dim", args.dim.is_some()),
         ("n", args.n.is_some()),
         ("size-ratio", args.size_ratio.is_some()),
         ("fraction-large", args.fraction_large.is_some()),
         ("polydispersity", args.polydispersity.is_some()),
         ("boundary", args.boundary.is_some()),
-    ] {
+    ]
+}
+
+/// Refuses the options of a random start when a start is given (`what` names it).
+fn refuse_random_options(args: &PackArgs, what: &str) -> Result<()> {
+    for (flag, set) in random_start_options(args) {
         if set {
             return user_error(format!(
                 "pack: --{flag} is for a random start; {what} sets it"

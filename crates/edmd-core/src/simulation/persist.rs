@@ -213,10 +213,7 @@ impl<const D: usize> Simulation<D> {
     /// [`Error::Checkpoint`] on anything that is not a whole, intact checkpoint of dimension
     /// `D` written by this format version.
     pub fn from_checkpoint(bytes: &[u8]) -> Result<(Self, Vec<u8>), Error> {
-        let (dim, version, payload) = frame::open(bytes, &frame::RUN)?;
-        if dim != D {
-            return bad(format!("a {dim}D checkpoint, read as {D}D"));
-        }
+        let (version, payload) = frame::open_as::<D>(bytes, &frame::RUN)?;
         let mut r = Reader::new(payload);
         let mut lengths = [0.0; D];
         let mut boundaries = [Boundary::Walls; D];

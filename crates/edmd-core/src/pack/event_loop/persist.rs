@@ -151,10 +151,7 @@ impl<const D: usize> Packer<D> {
     /// Fails with [`Error::Checkpoint`] on anything that is not a whole, intact packing
     /// checkpoint of dimension `D` written by this format version.
     pub fn from_checkpoint(bytes: &[u8]) -> Result<(Self, Vec<u8>), Error> {
-        let (dim, _version, payload) = frame::open(bytes, &frame::PACK)?;
-        if dim != D {
-            return bad(format!("a {dim}D checkpoint, read as {D}D"));
-        }
+        let (_version, payload) = frame::open_as::<D>(bytes, &frame::PACK)?;
         let mut r = Reader::new(payload);
         let mut lengths = [0.0; D];
         let mut boundaries = [Boundary::Walls; D];
