@@ -499,23 +499,6 @@ pub fn checkpoint(bytes: &[u8]) {
     }
 }
 
-/// Whether some barrier is closer than the widest disc to a wall or another barrier across
-/// its axis: the open defect fenced in [`accepted`].
-fn wedged_in_a_doorway<const D: usize>(sim: &Simulation<D>) -> bool {
-    let widest = (0..sim.len())
-        .map(|i| 2.0 * sim.radius(i))
-        .fold(0.0, f64::max);
-    let barriers = sim.barriers();
-    barriers.iter().enumerate().any(|(k, b)| {
-        let l = sim.sim_box().lengths[b.axis];
-        b.position < widest
-            || l - b.position < widest
-            || barriers.iter().enumerate().any(|(m, c)| {
-                m != k && c.axis == b.axis && (c.position - b.position).abs() < widest
-            })
-    })
-}
-
 fn accepted<const D: usize>(bytes: &[u8], mut sim: Simulation<D>, extra: &[u8]) {
     assert!(
         sim.to_checkpoint(extra) == bytes,
@@ -524,12 +507,6 @@ fn accepted<const D: usize>(bytes: &[u8], mut sim: Simulation<D>, extra: &[u8]) 
     // The reader refuses discs outside the box but not overlapping pairs (a run may allow
     // them, `OverlapPolicy::Allow`): a checkpoint with overlaps is read, not run.
     if sim.overlaps(OVERLAP_TOLERANCE).count > 0 {
-        return;
-    }
-    // Found and left open (RELIABILITY.md, eighth session): a disc in a doorway, wider than the
-    // gap between the barrier and the wall or barrier beside it, ends up outside the box
-    // (`corpus/read_checkpoint/read_checkpoint-disc-wedged-in-a-doorway`). Fenced until fixed.
-    if wedged_in_a_doorway(&sim) {
         return;
     }
     let t0 = sim.time();

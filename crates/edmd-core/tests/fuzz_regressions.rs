@@ -601,3 +601,77 @@ fn image_count_at_its_limit_wraps_at_the_next_crossing() {
     sim.run_until(35.0, &mut ());
     assert_eq!(sim.position(0)[0], 4.5);
 }
+
+/// Found by fuzzing (`read_pack_checkpoint`, in CI): a packing checkpoint whose collision
+/// counters stood at `u64::MAX` was accepted, and the next collision overflowed them: a panic
+/// where overflow is checked. The packer's counters now wrap, as the run's do.
+#[test]
+fn pack_counters_at_their_maximum_wrap_instead_of_overflowing() {
+    use edmd_core::pack::{random_start, PackOptions, PackSizes, Packer};
+    let (discs, sim_box) =
+        random_start::<2>(10, PackSizes::MONODISPERSE, Boundary::Walls, 1).unwrap();
+    let good = Packer::new(&discs, sim_box, PackOptions::default())
+        .unwrap()
+        .checkpoint(b"");
+    // Payload: box (2 x 9), options (8 + 8 + 1 + 8 + 8), scale, lists flag, then the counters:
+    // collisions, wall collisions, events, rescales, collisions since the last rescaling (the
+    // sixth, events at one time, is left alone: at its maximum it stops the run by design).
+    let counters = 18 + 33 + 8 + 1;
+    let mut full = good;
+    for at in counters..counters + 5 * 8 {
+        full = patched(&full, at, 0xff);
+    }
+    let (packer, _) = Packer::<2>::from_checkpoint(&full).unwrap();
+    let mut syncs = 0;
+    let mut seen = None;
+    let _ = packer.run_with(|pk| {
+        syncs += 1;
+        seen = Some(pk.status());
+        syncs < 3
+    });
+    let s = seen.unwrap();
+    assert!(s.collisions < 1_000_000, "{s:?}");
+}
+
+/// Found by fuzzing (`read_checkpoint`,
+/// `fuzz/corpus/read_checkpoint/read_checkpoint-disc-wedged-in-a-doorway`): a disc that cuts
+/// into a barrier's face less than its diameter from a wall (allowed at the start with
+/// `OverlapPolicy::Allow`) was put at contact with the face at its first face event, which is
+/// beyond the wall: it then bounced between wall and face at one instant, outside the box half
+/// the time, and a checkpoint taken then was refused. It is now turned round where it is, as
+/// an overlapping pair is; wedged, it stops the run as a stalled clock, inside the box.
+#[test]
+fn a_disc_cutting_a_barrier_beside_a_wall_stays_in_the_box() {
+    use edmd_core::OverlapPolicy;
+    // The fuzz input's numbers: radius 0.0973 at the bottom wall, the barrier 0.077 above it.
+    let r = 0.09731656331506279;
+    let disc = Disc::new(
+        Vector::new([5.389047820712639, r]),
+        Vector::new([-0.7478225757985365, 0.0020150505970531613]),
+        r,
+    );
+    let barrier = Barrier {
+        door: Some((0.9598540805245632, 3.457172813351023)),
+        ..Barrier::solid(1, 0.17434012095797735)
+    };
+    let sim_box = SimBox::walls([9.589035051662716, 1.0717699033676273]);
+    let refused = Simulation::with_barriers(&[disc], sim_box, &[barrier], Options::default());
+    assert!(matches!(refused, Err(Error::BarrierOverlap { .. })));
+    let allow = Options {
+        overlaps: OverlapPolicy::Allow,
+        ..Options::default()
+    };
+    let mut sim = Simulation::with_barriers(&[disc], sim_box, &[barrier], allow).unwrap();
+    let mut faces = 0;
+    for _ in 0..2000 {
+        let Some(e) = sim.step(f64::INFINITY) else {
+            break;
+        };
+        faces += matches!(e.kind, edmd_core::EventKind::Barrier { .. }) as u32;
+        assert!(sim.discs_outside(OVERLAP_TOLERANCE).is_empty(), "{e:?}");
+        let ck = sim.to_checkpoint(b"");
+        Simulation::<2>::from_checkpoint(&ck).expect("a checkpoint taken on the way");
+    }
+    assert!(faces > 10, "{faces} barrier events");
+    assert!(sim.position(0)[1] >= r, "{:?}", sim.position(0));
+}

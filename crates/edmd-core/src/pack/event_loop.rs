@@ -292,7 +292,7 @@ impl<const D: usize> Packer<D> {
             }
             idle_syncs = 0;
             if t == self.now {
-                self.same_time += 1;
+                self.same_time = self.same_time.saturating_add(1);
                 if self.same_time > stall_limit {
                     return Err(Error::Invalid(format!(
                         "pack: the clock stopped: {} events in a row at one time, at packing fraction {:.9} and reduced pressure {:.3e} (particle {i} and its neighbours are jammed beyond what double precision resolves; ask for a lower --pressure)",
@@ -305,7 +305,7 @@ impl<const D: usize> Packer<D> {
                 self.same_time = 0;
             }
             self.now = t;
-            self.events += 1;
+            self.events = self.events.wrapping_add(1);
             self.step(i);
             if self.lists_expired {
                 self.lists_expired = false;
@@ -409,11 +409,11 @@ impl<const D: usize> Packer<D> {
             * (pi.mass * (vi.norm2() - pi.vel.norm2()) + pj.mass * (vj.norm2() - pj.vel.norm2()));
         self.parts[i].vel = vi;
         self.parts[j].vel = vj;
-        self.parts[i].count += 1;
-        self.parts[j].count += 1;
+        self.parts[i].count = self.parts[i].count.wrapping_add(1);
+        self.parts[j].count = self.parts[j].count.wrapping_add(1);
         self.virial += dist * imp.elastic;
-        self.collisions += 1;
-        self.interval_collisions += 1;
+        self.collisions = self.collisions.wrapping_add(1);
+        self.interval_collisions = self.interval_collisions.wrapping_add(1);
     }
 
     fn wall(&mut self, i: usize, a: usize, high: bool) {
@@ -428,10 +428,10 @@ impl<const D: usize> Packer<D> {
         let old = p.vel.norm2();
         p.vel[a] += inward * imp.total / p.mass;
         p.pos[a] = if high { self.sim_box.lengths[a] - r } else { r };
-        p.count += 1;
+        p.count = p.count.wrapping_add(1);
         self.ke += 0.5 * p.mass * (p.vel.norm2() - old);
         self.wall_impulse += imp.elastic;
-        self.wall_collisions += 1;
+        self.wall_collisions = self.wall_collisions.wrapping_add(1);
     }
 
     fn cross(&mut self, i: usize, a: usize, high: bool) {
@@ -794,7 +794,7 @@ impl<const D: usize> Packer<D> {
             p.vel = p.vel * lambda;
         }
         self.ke = 0.5 * m;
-        self.rescales += 1;
+        self.rescales = self.rescales.wrapping_add(1);
     }
 
     /// Moves every particle to the present, measures the interval (when `measure`: an interval

@@ -68,12 +68,18 @@ impl<const D: usize> Simulation<D> {
         let b = &mut self.body[i];
         let (hit, impulse) = match part {
             0 => {
-                // Exactly at contact, on the side the disc is on.
-                b.pos[w.axis] = if b.pos[w.axis] < w.position {
+                // Exactly at contact, on the side the disc is on: the centre is there up to
+                // rounding. A disc that cuts into the face (allowed at the start,
+                // `OverlapPolicy::Allow`) is turned round where it is, as an overlapping pair
+                // is: put at contact it could jump across the box's wall beside the barrier.
+                let contact = if b.pos[w.axis] < w.position {
                     w.position - b.radius
                 } else {
                     w.position + b.radius
                 };
+                if (b.pos[w.axis] - contact).abs() <= OVERLAP_TOLERANCE * b.radius {
+                    b.pos[w.axis] = contact;
+                }
                 (BarrierHit::Face, reflect(&mut b.vel, w.axis, m))
             }
             1 | 2 => {
