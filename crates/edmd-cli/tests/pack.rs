@@ -378,3 +378,34 @@ fn a_refused_start_names_its_file_and_line() {
     refused(&out, &["1e-300"]);
     assert!(String::from_utf8_lossy(&out.stderr).len() < 200);
 }
+
+/// An output that cannot be created is refused before the compression, not after it (a
+/// compression may take hours): here a checkpoint at every rescaling would be on disc if the
+/// compression had run.
+#[test]
+fn an_unwritable_output_is_refused_before_the_compression() {
+    let dir = tempfile::tempdir().unwrap();
+    let ck = dir.path().join("pack.ck");
+    let out = dir.path().join("no-such-folder").join("glass.txt");
+    let o = run(
+        "edmd",
+        &[
+            "pack",
+            "--n",
+            "200",
+            "--checkpoint",
+            ck.to_str().unwrap(),
+            "--checkpoint-every",
+            "0",
+            "-o",
+            out.to_str().unwrap(),
+        ],
+        None,
+    );
+    refused(&o, &["no-such-folder", "cannot create"]);
+    assert!(
+        !ck.exists(),
+        "the compression ran before the output was tried"
+    );
+    assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 0);
+}

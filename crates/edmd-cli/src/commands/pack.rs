@@ -218,6 +218,12 @@ pub fn run(args: &PackArgs) -> Result<()> {
         barriers,
         lines,
     });
+    // Created before the compression so that an unwritable path fails at once, not after it
+    // (the file appears only when the packing is written whole).
+    let out_file = match args.output.as_str() {
+        "-" => None,
+        p => Some(AtomicFile::create(Path::new(p))?),
+    };
     crate::commands::experiment::common::install_ctrlc();
     let bar = progress_bar();
     let packed = pack(args, given, |s: &Status| {
@@ -250,8 +256,8 @@ pub fn run(args: &PackArgs) -> Result<()> {
         }
     }
     match packed {
-        Packed::Two(packing, summary) => report(args, &packing, summary),
-        Packed::Three(packing, summary) => report(args, &packing, summary),
+        Packed::Two(packing, summary) => report(args, out_file, &packing, summary),
+        Packed::Three(packing, summary) => report(args, out_file, &packing, summary),
     }
 }
 
@@ -585,10 +591,11 @@ fn drive<const D: usize>(
 /// Writes the packing and prints the summary.
 fn report<const D: usize>(
     args: &PackArgs,
+    out_file: Option<AtomicFile>,
     packing: &Packing<D>,
     mut summary: Summary,
 ) -> Result<()> {
-    write(args, packing)?;
+    write(out_file, packing)?;
     summary.output = args.output.clone();
     if args.json {
         crate::print_line(&serde_json::to_string(&summary)?);
@@ -623,23 +630,20 @@ fn progress_bar() -> Option<indicatif::ProgressBar> {
     Some(pb)
 }
 
-fn write<const D: usize>(args: &PackArgs, packing: &Packing<D>) -> Result<()> {
+/// Writes the packing to `out_file`, or to standard output when there is none (`-o -`).
+fn write<const D: usize>(out_file: Option<AtomicFile>, packing: &Packing<D>) -> Result<()> {
     let format = Format::Princeton(ColumnOrder::RadiusMass);
-    if args.output == "-" {
-        let mut out = std::io::stdout().lock();
-        edmd_io::write(&mut out, &packing.discs, &packing.sim_box, &[], format, 0.0)?;
-        std::io::Write::flush(&mut out)?;
-    } else {
-        let mut f = AtomicFile::create(Path::new(&args.output))?;
-        edmd_io::write(
-            f.writer(),
-            &packing.discs,
-            &packing.sim_box,
-            &[],
-            format,
-            0.0,
-        )?;
-        f.commit()?;
+    let (discs, sim_box) = (&packing.discs, &packing.sim_box);
+    match out_file {
+        None => {
+            let mut out = std::io::stdout().lock();
+            edmd_io::write(&mut out, discs, sim_box, &[], format, 0.0)?;
+            std::io::Write::flush(&mut out)?;
+        }
+        Some(mut f) => {
+            edmd_io::write(f.writer(), discs, sim_box, &[], format, 0.0)?;
+            f.commit()?;
+        }
     }
     Ok(())
 }
