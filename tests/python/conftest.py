@@ -3,6 +3,7 @@
 import os
 import pathlib
 import shutil
+import signal
 
 import pytest
 
@@ -29,3 +30,14 @@ def edmd_cli():
             pytest.fail("the edmd binary is needed (cargo build --bin edmd) and was not found")
         pytest.skip("no edmd binary (cargo build --bin edmd, or set EDMD_BIN)")
     return exe
+
+
+@pytest.fixture
+def ctrl_c():
+    """Ctrl-C raises KeyboardInterrupt for the test's duration. Python installs that handler only
+    if SIGINT is not ignored when it starts, and a shell ignores SIGINT in the commands it runs
+    in the background (`bash -c '... &'`), so a test that interrupts itself with SIGINT would
+    otherwise run on for ever there."""
+    old = signal.signal(signal.SIGINT, signal.default_int_handler)
+    yield
+    signal.signal(signal.SIGINT, old)

@@ -10,7 +10,7 @@ import numpy as np
 import edmd
 
 
-def test_ctrl_c_interrupts_a_long_run_quickly():
+def test_ctrl_c_interrupts_a_long_run_quickly(ctrl_c):
     sim = edmd.gen.fluid(n=2000, packing=0.5, seed=1)
     reference = edmd.Simulation.from_checkpoint(sim.checkpoint())
     timer = threading.Timer(0.5, lambda: os.kill(os.getpid(), signal.SIGINT))

@@ -222,7 +222,7 @@ def test_the_gil_is_released_during_the_compression():
         assert len(ticks) > 0.3 * took / 0.01
 
 
-def test_ctrl_c_interrupts_a_long_compression():
+def test_ctrl_c_interrupts_a_long_compression(ctrl_c):
     # Ctrl-C is noticed at a velocity rescaling (every 10 collisions per particle): a few
     # tenths of a second apart here; the whole compression takes some seconds more.
     timer = threading.Timer(1.0, lambda: os.kill(os.getpid(), signal.SIGINT))
@@ -273,7 +273,7 @@ def test_a_checkpointed_compression_resumes_bit_for_bit(tmp_path, edmd_cli):
         edmd.pack(checkpoint_every=1.0, **FAST)
 
 
-def test_ctrl_c_writes_a_checkpoint_and_leaves_no_temporary_file(tmp_path):
+def test_ctrl_c_writes_a_checkpoint_and_leaves_no_temporary_file(tmp_path, ctrl_c):
     ck = tmp_path / "pack.ck"
     timer = threading.Timer(1.0, lambda: os.kill(os.getpid(), signal.SIGINT))
     timer.start()
