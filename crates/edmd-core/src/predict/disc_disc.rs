@@ -45,32 +45,76 @@ pub fn contact_time_or_inf<const D: usize>(dr: Vector<D>, dv: Vector<D>, sigma: 
 }
 
 /// The contact time, `+inf` for "never", computed without branches; the discriminant in the
-/// far form when `FAR` (the module's notes).
-///
-/// The event loop calls this for every neighbour. Whether a pair approaches is a coin toss the
-/// branch predictor cannot learn, so the root is always computed and then selected (measured:
-/// 15% more collisions per second than the branching form, BENCHMARKS.md).
+/// far form when `FAR` (the module's notes). [`contact_terms`] then [`contact_root`].
 #[inline(always)]
 pub fn contact_time<const D: usize, const FAR: bool>(
     dr: Vector<D>,
     dv: Vector<D>,
     sigma: f64,
 ) -> f64 {
-    let b = dr.dot(dv);
-    let c = dr.norm2() - sigma * sigma;
-    let a = dv.norm2();
+    let terms = contact_terms::<D, FAR>(dr, dv, sigma);
+    // The root is computed whatever the pair does and then selected: whether a pair meets is
+    // a coin toss the branch predictor cannot learn.
+    let t = contact_root(terms);
+    if terms.meets() {
+        t
+    } else {
+        f64::INFINITY
+    }
+}
+
+/// What decides a pair's contact time: `b = dr.dv`, `c = dr.dr - sigma^2` and the
+/// discriminant `d`.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct ContactTerms {
+    /// `dr.dv`: negative when the pair approaches.
+    pub b: f64,
+    /// `dr.dr - sigma^2`: negative when the pair overlaps.
+    pub c: f64,
+    /// The discriminant `b^2 - a c`: negative when the pair passes without touching.
+    pub d: f64,
+}
+
+impl ContactTerms {
+    /// Whether the pair ever touches: it approaches (`b < 0`) and does not pass by (`d >= 0`);
+    /// false for NaNs. Evaluated without branches.
+    #[inline(always)]
+    pub fn meets(&self) -> bool {
+        (self.b < 0.0) & (self.d >= 0.0)
+    }
+}
+
+/// The terms of a pair's contact time, without the square root and the division: cheap
+/// enough to be worked out for every candidate, so that only the pairs that meet
+/// ([`ContactTerms::meets`]) pay for [`contact_root`].
+#[inline(always)]
+pub fn contact_terms<const D: usize, const FAR: bool>(
+    dr: Vector<D>,
+    dv: Vector<D>,
+    sigma: f64,
+) -> ContactTerms {
+    // Sums started from `-0.0`, which the compiler can drop (`-0.0 + x` is `x` for every `x`),
+    // where `Vector::dot` starts from `0.0` and must add it. They differ only in the sign of
+    // a zero sum, which decides nothing here (`b < 0`, `b * b`, and `|dr|^2`, `|dv|^2` are
+    // zero only with every component zero).
+    let dot = |p: Vector<D>, q: Vector<D>| (0..D).fold(-0.0, |s, k| s + p[k] * q[k]);
+    let b = dot(dr, dv);
+    let c = dot(dr, dr) - sigma * sigma;
+    let a = dot(dv, dv);
     let d = if FAR {
         a * (sigma * sigma) - dr.wedge2(dv)
     } else {
         b * b - a * c
     };
-    // For c <= 0 (overlapping) the quotient is <= 0 and is clamped to "now".
-    let t = (c / (-b + d.max(0.0).sqrt())).max(0.0);
-    if b < 0.0 && d >= 0.0 {
-        t
-    } else {
-        f64::INFINITY
-    }
+    ContactTerms { b, c, d }
+}
+
+/// The contact time of a pair that meets: the earlier root in the cancellation-free form.
+/// For `c <= 0` (overlapping) the quotient is `<= 0` and is clamped to "now".
+#[inline(always)]
+pub fn contact_root(terms: ContactTerms) -> f64 {
+    let ContactTerms { b, c, d } = terms;
+    (c / (-b + d.max(0.0).sqrt())).max(0.0)
 }
 
 #[cfg(test)]

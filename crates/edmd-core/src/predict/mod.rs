@@ -7,5 +7,8 @@ pub mod barrier;
 pub mod disc_disc;
 pub mod interval;
 
-pub use disc_disc::{contact_time, contact_time_or_inf, time_to_contact, FAR_CONTACT_RATIO2};
+pub use disc_disc::{
+    contact_root, contact_terms, contact_time, contact_time_or_inf, time_to_contact, ContactTerms,
+    FAR_CONTACT_RATIO2,
+};
 pub use interval::{interval_exit, interval_exit_or_inf, Side};

@@ -122,6 +122,8 @@ pub struct Simulation<const D: usize = 2> {
     multi: Option<MultiContact>,
     /// The discs of the last multi-disc collision.
     last_cluster: Vec<usize>,
+    /// Scratch space of the predictions: the candidates that meet ([`predict::Kept`]).
+    kept: predict::Kept,
     /// Run the event loop compiled for x86-64-v3 (see `run_chunk`).
     v3: bool,
     /// Events in a row at `event_time` counted so far (a lower bound; see `stall.rs`).
@@ -279,6 +281,7 @@ impl<const D: usize> Simulation<D> {
             creep_span: 0.0,
             multi: options.multi,
             last_cluster: Vec::new(),
+            kept: predict::Kept::default(),
             v3: false,
             still: 0,
             chunk_time: 0.0,

@@ -533,6 +533,7 @@ impl<const D: usize> Simulation<D> {
             creep_span: 0.0,
             multi,
             last_cluster,
+            kept: super::predict::Kept::default(),
             v3: false,
             still,
             chunk_time,

@@ -4,7 +4,9 @@ use crate::cells::CellGrid;
 use crate::events::{Pending, Side};
 use crate::math::Vector;
 use crate::predict::barrier::{time_to_barrier, time_to_doorway, Contact};
-use crate::predict::{contact_time, interval_exit, FAR_CONTACT_RATIO2};
+use crate::predict::{
+    contact_root, contact_terms, interval_exit, ContactTerms, FAR_CONTACT_RATIO2,
+};
 use crate::schedule::EventQueue;
 use crate::state::SimBox;
 
@@ -143,21 +145,20 @@ impl<const D: usize> Simulation<D> {
         if !self.barriers.is_empty() {
             (best_t, best) = self.predict_barriers(i, best_t, best);
         }
-        // The earliest pair is selected without branches: whether a pair beats the best so far
-        // is a coin toss for the branch predictor (BENCHMARKS.md). Strict `<` keeps the first
-        // found on ties.
+        // Every candidate's contact terms are worked out, and those that meet are kept, without
+        // branches (whether a pair meets is a coin toss for the branch predictor); only the
+        // kept ones pay for the square root and the division (BENCHMARKS.md, tenth session).
         let body = &self.body;
-        let mut partner = NO_PARTNER;
-        let pair = |j: usize, shift: Vector<D>, best_t: &mut f64, partner: &mut u32| {
+        let mut nearest = Nearest::new(t0, best_t, &mut self.kept);
+        let pair = |j: usize, shift: Vector<D>, nearest: &mut Nearest| {
             let bj = &body[j];
             let pj = bj.position_at(t0) + shift;
-            let t =
-                t0 + contact_time::<D, FAR>(pj - bi.pos, bj.vel - bi.vel, bi.radius + bj.radius);
             // Disc `i` itself is at `dr = 0` (or a whole box length: a periodic image), with
             // `dv = 0`, which never meets (`b = 0`): no test needed.
-            let keep = ((t < *best_t) as u32).wrapping_neg();
-            *partner = (j as u32 & keep) | (*partner & !keep);
-            *best_t = best_t.min(t);
+            nearest.offer(
+                j,
+                contact_terms::<D, FAR>(pj - bi.pos, bj.vel - bi.vel, bi.radius + bj.radius),
+            );
         };
         let c = self.grid.cell_of(i);
         if D == 3 {
@@ -165,11 +166,12 @@ impl<const D: usize> Simulation<D> {
             // `i` itself standing in for them) is the faster one (BENCHMARKS.md). In 2D the
             // plain scan is kept as it was measured.
             self.grid
-                .for_each_near_edges_once(c, |j, shift| pair(j, shift, &mut best_t, &mut partner));
+                .for_each_near_edges_once(c, |j, shift| pair(j, shift, &mut nearest));
         } else {
             self.grid
-                .for_each_near(c, |j, shift| pair(j, shift, &mut best_t, &mut partner));
+                .for_each_near(c, |j, shift| pair(j, shift, &mut nearest));
         }
+        let (best_t, partner) = nearest.settle();
         if partner != NO_PARTNER {
             best = Pending::Disc {
                 partner,
@@ -178,6 +180,86 @@ impl<const D: usize> Simulation<D> {
         }
         self.body[i].pending = best;
         self.queue.set(i, best_t);
+    }
+}
+
+/// How many meeting candidates [`Nearest`] keeps before it works out their contact times: a
+/// power of two, larger than a dense fluid's candidates per prediction (about 25 in 3D).
+const KEPT: usize = 32;
+
+/// The earliest contact among a prediction's candidates, found in two passes: the candidates'
+/// contact terms as they come ([`Self::offer`]), then the roots of those that meet
+/// ([`Self::settle`]), in the order offered, so that the first found wins a tie.
+struct Nearest<'a> {
+    t0: f64,
+    best_t: f64,
+    partner: u32,
+    kept: usize,
+    store: &'a mut Kept,
+}
+
+/// The candidates [`Nearest`] keeps: scratch space that lives with the simulation, so that a
+/// prediction does not clear it.
+#[derive(Clone, Debug)]
+pub(super) struct Kept {
+    terms: [ContactTerms; KEPT],
+    which: [u32; KEPT],
+}
+
+impl Default for Kept {
+    fn default() -> Self {
+        Kept {
+            terms: [ContactTerms::default(); KEPT],
+            which: [0; KEPT],
+        }
+    }
+}
+
+impl<'a> Nearest<'a> {
+    /// No candidate yet, the earliest event so far at `best_t`.
+    #[inline(always)]
+    fn new(t0: f64, best_t: f64, store: &'a mut Kept) -> Self {
+        Nearest {
+            t0,
+            best_t,
+            partner: NO_PARTNER,
+            kept: 0,
+            store,
+        }
+    }
+
+    /// Candidate `j` with its contact terms: kept if the pair meets, by moving the end of the
+    /// kept list past it (no branch).
+    #[inline(always)]
+    fn offer(&mut self, j: usize, terms: ContactTerms) {
+        let k = self.kept & (KEPT - 1);
+        self.store.terms[k] = terms;
+        self.store.which[k] = j as u32;
+        self.kept = k + terms.meets() as usize;
+        if self.kept == KEPT {
+            self.roots();
+        }
+    }
+
+    /// The kept candidates' contact times, the earliest taken without branches (strict `<`
+    /// keeps the first found on ties); empties the list.
+    #[inline(always)]
+    fn roots(&mut self) {
+        for k in 0..self.kept.min(KEPT) {
+            let t = self.t0 + contact_root(self.store.terms[k]);
+            let keep = ((t < self.best_t) as u32).wrapping_neg();
+            self.partner = (self.store.which[k] & keep) | (self.partner & !keep);
+            self.best_t = self.best_t.min(t);
+        }
+        self.kept = 0;
+    }
+
+    /// The earliest time and its partner (`NO_PARTNER` if no pair beats the time given to
+    /// [`Self::new`]).
+    #[inline(always)]
+    fn settle(mut self) -> (f64, u32) {
+        self.roots();
+        (self.best_t, self.partner)
     }
 }
 
