@@ -279,3 +279,89 @@ pub(super) fn far_contacts<const D: usize>(
         .sum();
     reach2 > FAR_CONTACT_RATIO2 * min_diameter * min_diameter
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::predict::contact_time;
+
+    /// The contact terms of a pair drawn from `state` (a small LCG): relative positions within
+    /// 1.5 contact distances along each axis, relative velocities up to 2, so that many meet.
+    fn random_terms(state: &mut u64) -> ContactTerms {
+        let mut next = || {
+            *state = state
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (*state >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
+        };
+        let dr = Vector::new([1.5 * next(), 1.5 * next(), 1.5 * next()]);
+        let dv = Vector::new([2.0 * next(), 2.0 * next(), 2.0 * next()]);
+        contact_terms::<3, false>(dr, dv, 1.0)
+    }
+
+    /// What `Nearest` replaces: every contact time computed and the earliest taken, the first
+    /// on ties.
+    fn plainly(t0: f64, best_t: f64, terms: &[ContactTerms]) -> (f64, u32) {
+        let mut best = (best_t, NO_PARTNER);
+        for (j, &tm) in terms.iter().enumerate() {
+            let t = t0
+                + if tm.meets() {
+                    contact_root(tm)
+                } else {
+                    f64::INFINITY
+                };
+            if t < best.0 {
+                best = (t, j as u32);
+            }
+        }
+        best
+    }
+
+    #[test]
+    fn nearest_finds_the_earliest_pair_past_a_full_buffer() {
+        // 1000 candidates in a prediction: the kept list fills (`KEPT`) and is emptied many
+        // times, as around a large disc among many small ones.
+        let mut state = 7;
+        for n in [0, 1, 5, KEPT - 1, KEPT, KEPT + 1, 3 * KEPT, 1000] {
+            let terms: Vec<ContactTerms> = (0..n).map(|_| random_terms(&mut state)).collect();
+            let meeting = terms.iter().filter(|t| t.meets()).count();
+            if n == 1000 {
+                assert!(meeting > 3 * KEPT, "{meeting} of {n} meet");
+            }
+            for best_t in [f64::INFINITY, 2.0, 0.5] {
+                let mut kept = Kept::default();
+                let mut nearest = Nearest::new(1.0, best_t, &mut kept);
+                for (j, &t) in terms.iter().enumerate() {
+                    nearest.offer(j, t);
+                }
+                assert_eq!(nearest.settle(), plainly(1.0, best_t, &terms), "n {n}");
+            }
+        }
+    }
+
+    #[test]
+    fn nearest_keeps_the_first_of_a_tie_and_agrees_with_the_kernel() {
+        let mut state = 11;
+        let mut terms: Vec<ContactTerms> = (0..200).map(|_| random_terms(&mut state)).collect();
+        let (_, winner) = plainly(0.0, f64::INFINITY, &terms);
+        assert_ne!(winner, NO_PARTNER);
+        // The winning pair offered again at the end, after several full buffers: an exact tie.
+        terms.push(terms[winner as usize]);
+        let mut kept = Kept::default();
+        let mut nearest = Nearest::new(0.0, f64::INFINITY, &mut kept);
+        for (j, &t) in terms.iter().enumerate() {
+            nearest.offer(j, t);
+        }
+        assert_eq!(nearest.settle().1, winner, "a tie goes to the first found");
+        // Against the one-pass kernel on vectors: dr = (2, 0.5, 0), closing at 1 along x,
+        // sigma 1: contact at x = sqrt(1 - 0.25), t = 2 - sqrt(0.75).
+        let dr = Vector::new([2.0, 0.5, 0.0]);
+        let dv = Vector::new([-1.0, 0.0, 0.0]);
+        let mut kept = Kept::default();
+        let mut nearest = Nearest::new(0.0, f64::INFINITY, &mut kept);
+        nearest.offer(4, contact_terms::<3, false>(dr, dv, 1.0));
+        let (t, partner) = nearest.settle();
+        assert_eq!((t, partner), (contact_time::<3, false>(dr, dv, 1.0), 4));
+        assert!((t - (2.0 - 0.75f64.sqrt())).abs() < 1e-15, "{t}");
+    }
+}
