@@ -162,9 +162,9 @@ impl<const D: usize> Simulation<D> {
         };
         let c = self.grid.cell_of(i);
         if D == 3 {
-            // About one sphere per cell: the scan that does not branch on empty cells (with
-            // `i` itself standing in for them) is the faster one (BENCHMARKS.md). In 2D the
-            // plain scan is kept as it was measured.
+            // The scan that works out the neighbour cells near the grid's edges once per axis
+            // (a third of the cells at N = 4000 touch an edge; BENCHMARKS.md). In 2D the plain
+            // scan is kept as it was measured.
             self.grid
                 .for_each_near_edges_once(c, |j, shift| pair(j, shift, &mut nearest));
         } else {
