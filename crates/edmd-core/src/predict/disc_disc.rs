@@ -71,7 +71,8 @@ pub struct ContactTerms {
     pub b: f64,
     /// `dr.dr - sigma^2`: negative when the pair overlaps.
     pub c: f64,
-    /// The discriminant `b^2 - a c`: negative when the pair passes without touching.
+    /// The discriminant `b^2 - a c` (`a = dv.dv`), in the textbook or the far form (the
+    /// module's notes): negative when the pair passes without touching.
     pub d: f64,
 }
 
