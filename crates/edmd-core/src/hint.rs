@@ -15,3 +15,106 @@ pub(crate) fn prefetch<T>(x: &T) {
     #[cfg(not(target_arch = "x86_64"))]
     let _ = x;
 }
+
+/// Asks the kernel to back the spare capacity of `v` with huge pages (2 MiB on x86-64; a hint:
+/// no effect on results). Call it before that memory is first written: pages are chosen when
+/// first touched. For the large arrays read at random by the event loop (the records of the
+/// spheres around each event): with 4 KiB pages, a record array past the TLB's reach (about
+/// 8 MB) costs a page walk on most reads (BENCHMARKS.md, eleventh session). Small arrays are
+/// left alone.
+pub(crate) fn huge_pages<T>(v: &mut Vec<T>) {
+    #[cfg(target_os = "linux")]
+    {
+        const HUGE: usize = 2 << 20;
+        let spare = v.spare_capacity_mut();
+        let len = std::mem::size_of_val(spare);
+        if len < 2 * HUGE {
+            return;
+        }
+        let start = spare.as_mut_ptr() as usize;
+        // `madvise` wants a page-aligned start; the kernel uses the huge pages that fit.
+        let aligned = start.next_multiple_of(4096);
+        // SAFETY: `MADV_HUGEPAGE` changes no contents and no mapping, only how pages of the
+        // range are chosen; the range lies within `v`'s allocation. Its result is a hint's:
+        // ignored.
+        #[allow(unsafe_code)]
+        unsafe {
+            libc::madvise(
+                aligned as *mut libc::c_void,
+                start + len - aligned,
+                libc::MADV_HUGEPAGE,
+            );
+        }
+    }
+    #[cfg(not(target_os = "linux"))]
+    let _ = v;
+}
+
+/// `vec![value; n]`, with [`huge_pages`] asked for before it is filled.
+pub(crate) fn filled<T: Clone>(value: T, n: usize) -> Vec<T> {
+    let mut v = Vec::with_capacity(n);
+    huge_pages(&mut v);
+    v.resize(n, value);
+    v
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn filled_is_vec_macro() {
+        assert_eq!(filled(7u32, 3), vec![7u32; 3]);
+        let big = filled([1.5f64; 3], 300_000);
+        assert_eq!(big.len(), 300_000);
+        assert!(big.iter().all(|x| *x == [1.5; 3]));
+    }
+
+    /// The kernel marks a mapping it was asked to back with huge pages `hg` in
+    /// `/proc/self/smaps` (proc(5)), whether or not it finds free huge pages. Checked where the
+    /// kernel has transparent huge pages at all.
+    #[cfg(target_os = "linux")]
+    #[test]
+    fn large_arrays_ask_for_huge_pages() {
+        let thp = "/sys/kernel/mm/transparent_hugepage/enabled";
+        match std::fs::read_to_string(thp) {
+            Ok(mode) if !mode.contains("[never]") => {}
+            _ => {
+                eprintln!("no transparent huge pages on this kernel ({thp}): nothing to check");
+                return;
+            }
+        }
+        let flags = |addr: usize| -> String {
+            let smaps = std::fs::read_to_string("/proc/self/smaps").unwrap();
+            let mut inside = false;
+            for line in smaps.lines() {
+                let range = line.split(' ').next().unwrap_or("");
+                if let Some((lo, hi)) = range.split_once('-') {
+                    if let (Ok(lo), Ok(hi)) =
+                        (usize::from_str_radix(lo, 16), usize::from_str_radix(hi, 16))
+                    {
+                        inside = (lo..hi).contains(&addr);
+                        continue;
+                    }
+                }
+                if let Some(f) = line.strip_prefix("VmFlags:") {
+                    if inside {
+                        return f.to_string();
+                    }
+                }
+            }
+            panic!("no mapping holds {addr:#x}");
+        };
+        let large = filled(0u64, 1 << 20); // 8 MiB
+        let middle = large.as_ptr() as usize + (4 << 20);
+        assert!(
+            flags(middle).split_whitespace().any(|f| f == "hg"),
+            "8 MiB array not marked for huge pages: {}",
+            flags(middle)
+        );
+        let small = filled(0u64, 1 << 10);
+        assert!(!flags(small.as_ptr() as usize)
+            .split_whitespace()
+            .any(|f| f == "hg"));
+    }
+}

@@ -8,6 +8,7 @@
 //! required there so that the wrapped neighbours are distinct.
 
 use crate::error::Error;
+use crate::hint::filled;
 use crate::math::{select, Vector};
 use crate::predict::{interval_exit_or_inf, Side};
 use crate::state::SimBox;
@@ -77,9 +78,9 @@ impl<const D: usize> CellGrid<D> {
             stride,
             offsets,
             linear_offsets,
-            head: vec![NONE; total],
-            next: vec![NONE; n],
-            cell: vec![[0; D]; n],
+            head: filled(NONE, total),
+            next: filled(NONE, n),
+            cell: filled([0; D], n),
         })
     }
 

@@ -15,6 +15,7 @@
 //! are sorted by disc index: the engine's tie rule holds exactly.
 
 use super::EventQueue;
+use crate::hint::filled;
 
 /// `slot` value of a disc in the sorted current bucket.
 const CURRENT: u32 = u32::MAX;
@@ -291,11 +292,11 @@ impl CalendarQueue {
     pub fn with_buckets(n: usize, buckets: usize) -> Self {
         let m = buckets.max(2).next_power_of_two();
         let mut q = CalendarQueue {
-            time: vec![f64::INFINITY; n],
-            slot: vec![OVERFLOW; n],
-            next: vec![NONE; n],
-            prev: vec![NONE; n],
-            head: vec![NONE; m],
+            time: filled(f64::INFINITY, n),
+            slot: filled(OVERFLOW, n),
+            next: filled(NONE, n),
+            prev: filled(NONE, n),
+            head: filled(NONE, m),
             overflow: NONE,
             current: Vec::new(),
             cur: 0,

@@ -216,6 +216,7 @@ impl<const D: usize> Simulation<D> {
         }
         let mut adjusted = 0;
         let mut body = Vec::with_capacity(discs.len());
+        crate::hint::huge_pages(&mut body);
         let mut outside = (None, 0usize);
         for (k, d) in discs.iter().enumerate() {
             let mut pos = sim_box.wrap(d.pos);
