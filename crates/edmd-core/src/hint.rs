@@ -31,23 +31,49 @@ pub(crate) fn huge_pages<T>(v: &mut Vec<T>) {
         if len < 2 * HUGE {
             return;
         }
-        let start = spare.as_mut_ptr() as usize;
-        // `madvise` wants a page-aligned start; the kernel uses the huge pages that fit.
-        let aligned = start.next_multiple_of(4096);
-        // SAFETY: `MADV_HUGEPAGE` changes no contents and no mapping, only how pages of the
-        // range are chosen; the range lies within `v`'s allocation. Its result is a hint's:
-        // ignored.
-        #[allow(unsafe_code)]
-        unsafe {
-            libc::madvise(
-                aligned as *mut libc::c_void,
-                start + len - aligned,
-                libc::MADV_HUGEPAGE,
-            );
-        }
+        advise(spare.as_mut_ptr() as usize, len);
     }
     #[cfg(not(target_os = "linux"))]
     let _ = v;
+}
+
+/// `madvise(MADV_HUGEPAGE)` for the `len` bytes from `start`, within one allocation.
+#[cfg(target_os = "linux")]
+fn advise(start: usize, len: usize) {
+    // `madvise` wants a page-aligned start; the kernel uses the huge pages that fit.
+    let aligned = start.next_multiple_of(4096);
+    if aligned >= start + len {
+        return;
+    }
+    // SAFETY: `MADV_HUGEPAGE` changes no contents and no mapping, only how pages of the
+    // range are chosen; the callers pass a range within one allocation of theirs. Its result
+    // is a hint's: ignored.
+    #[allow(unsafe_code)]
+    unsafe {
+        libc::madvise(
+            aligned as *mut libc::c_void,
+            start + len - aligned,
+            libc::MADV_HUGEPAGE,
+        );
+    }
+}
+
+/// An array of records aligned for the cache, or for huge pages when large.
+pub(crate) type Records<T> = aligned_vec::AVec<T, aligned_vec::RuntimeAlign>;
+
+/// An empty [`Records`] with room for `n`: its start aligned to a cache line (64 bytes), so
+/// that 64-byte records each sit in one line, or to a huge page (2 MiB) when it takes 4 MiB
+/// or more, with [`huge_pages`]' advice for the whole of it.
+pub(crate) fn records<T>(n: usize) -> Records<T> {
+    const HUGE: usize = 2 << 20;
+    let bytes = n.saturating_mul(std::mem::size_of::<T>());
+    let align = if bytes >= 2 * HUGE { HUGE } else { 64 };
+    let v = Records::with_capacity(align, n);
+    #[cfg(target_os = "linux")]
+    if bytes >= 2 * HUGE {
+        advise(v.as_ptr() as usize, bytes);
+    }
+    v
 }
 
 /// `vec![value; n]`, with [`huge_pages`] asked for before it is filled.
@@ -68,6 +94,15 @@ mod tests {
         let big = filled([1.5f64; 3], 300_000);
         assert_eq!(big.len(), 300_000);
         assert!(big.iter().all(|x| *x == [1.5; 3]));
+    }
+
+    #[test]
+    fn records_start_on_a_line_or_a_huge_page() {
+        let small = records::<[u8; 80]>(1000);
+        assert_eq!(small.as_ptr() as usize % 64, 0);
+        let large = records::<[u8; 80]>(100_000); // 8 MB
+        assert_eq!(large.as_ptr() as usize % (2 << 20), 0);
+        assert!(small.capacity() >= 1000 && large.capacity() >= 100_000);
     }
 
     /// The kernel marks a mapping it was asked to back with huge pages `hg` in
@@ -110,6 +145,13 @@ mod tests {
         assert!(
             flags(middle).split_whitespace().any(|f| f == "hg"),
             "8 MiB array not marked for huge pages: {}",
+            flags(middle)
+        );
+        let recs = records::<[u8; 80]>(100_000);
+        let middle = recs.as_ptr() as usize + (4 << 20);
+        assert!(
+            flags(middle).split_whitespace().any(|f| f == "hg"),
+            "8 MB of records not marked for huge pages: {}",
             flags(middle)
         );
         let small = filled(0u64, 1 << 10);

@@ -21,7 +21,7 @@ impl<const D: usize> Simulation<D> {
         validate_barriers(barriers, &self.sim_box)?;
         let old = std::mem::replace(&mut self.barriers, barriers.to_vec());
         let now = self.now;
-        for b in &mut self.body {
+        for b in self.body.iter_mut() {
             b.advance_to(now);
         }
         if let Some((disc, barrier)) = self.barrier_overlap() {

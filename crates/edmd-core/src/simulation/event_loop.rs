@@ -8,7 +8,7 @@ use crate::observer::Observer;
 use crate::resolve::wall::reflect;
 use crate::schedule::EventQueue;
 
-use super::{Simulation, NO_DISC};
+use super::{Body, Simulation, NO_DISC};
 
 /// Whether this processor runs the event loop compiled for x86-64-v3 (AVX, AVX2, FMA, BMI1,
 /// BMI2, LZCNT, POPCNT, MOVBE; checked once). Always false off x86-64.
@@ -261,19 +261,30 @@ impl<const D: usize> Simulation<D> {
             return;
         };
         if let Some(k3) = k3 {
-            prefetch(&self.body[k3]);
+            self.prefetch_record(k3);
             self.grid.prefetch_cell_of(k3);
         }
         if let Some(k2) = k2 {
             if let Pending::Disc { partner, .. } = self.body[k2].pending {
-                prefetch(&self.body[partner as usize]);
+                self.prefetch_record(partner as usize);
             }
             self.grid.prefetch_heads_around(k2);
         }
         // An empty cell gives `NONE`, clamped to some disc: cheaper than a branch.
         let last = (self.body.len() as u32).saturating_sub(1);
         self.grid
-            .prefetch_first_around(k1, |j| prefetch(&self.body[j.min(last) as usize]));
+            .prefetch_first_around(k1, |j| self.prefetch_record(j.min(last) as usize));
+    }
+
+    /// Prefetches disc `i`'s record: its first line and, in 3D, where an 80-byte record
+    /// can straddle two lines, the line its end is in.
+    #[inline(always)]
+    fn prefetch_record(&self, i: usize) {
+        let b = &self.body[i];
+        prefetch(b);
+        if size_of::<Body<D>>() > 64 {
+            prefetch(&b.pending);
+        }
     }
 
     /// If disc `i`'s pending event names a partner that has changed course since, predicts `i`

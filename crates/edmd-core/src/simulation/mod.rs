@@ -50,6 +50,7 @@ pub use stall::{Stall, StallCause, CREEP_EVENTS_SPAN, MIN_STALL_EVENTS, STALL_EV
 use crate::cells::CellGrid;
 use crate::error::Error;
 use crate::events::Pending;
+use crate::hint::{records, Records};
 use crate::math::Vector;
 use crate::resolve::CollisionRule;
 use crate::schedule::{CalendarQueue, EventQueue};
@@ -57,11 +58,15 @@ use crate::state::{Barrier, Colour, Disc, SimBox, System};
 use barriers::validate_barriers;
 use check::validate_discs;
 
-/// Everything the event loop reads or writes for one disc, in one 64-byte cache line: its
-/// motion (for predictions against it), its counter (to validate events naming it) and its
-/// pending event (read when it reaches the front of the queue).
+/// Everything the event loop reads or writes for one disc: its motion (for predictions
+/// against it), its counter (to validate events naming it) and its pending event (read when
+/// it reaches the front of the queue). 64 bytes in 2D, one cache line (the records' array
+/// starts on a line, [`crate::hint::records`]); 80 in 3D, where a sphere's motion takes the
+/// first 64 bytes, without padding to 128: a record straddles two lines, but the array is
+/// 5/8 the size, which at N = 4000 (320 KB) fits the L2 cache and at N = 10^5 does better
+/// in L3 (BENCHMARKS.md, eleventh session).
 #[derive(Clone, Copy, Debug)]
-#[repr(C, align(64))]
+#[repr(C)]
 pub(crate) struct Body<const D: usize> {
     pos: Vector<D>,
     vel: Vector<D>,
@@ -92,7 +97,7 @@ impl<const D: usize> Body<D> {
 pub struct Simulation<const D: usize = 2> {
     sim_box: SimBox<D>,
     rule: CollisionRule,
-    body: Vec<Body<D>>,
+    body: Records<Body<D>>,
     mass: Vec<f64>,
     colour: Vec<Colour>,
     species: Vec<u16>,
@@ -215,8 +220,7 @@ impl<const D: usize> Simulation<D> {
             }
         }
         let mut adjusted = 0;
-        let mut body = Vec::with_capacity(discs.len());
-        crate::hint::huge_pages(&mut body);
+        let mut body = records(discs.len());
         let mut outside = (None, 0usize);
         for (k, d) in discs.iter().enumerate() {
             let mut pos = sim_box.wrap(d.pos);
@@ -489,7 +493,7 @@ impl<const D: usize> Simulation<D> {
                 "the clock can be set only before the run starts".into(),
             ));
         }
-        for b in &mut self.body {
+        for b in self.body.iter_mut() {
             b.time = t0;
         }
         self.event_time = t0;
@@ -511,3 +515,6 @@ impl<const D: usize> Simulation<D> {
             + self.grid.memory_bytes()
     }
 }
+
+// The record sizes the layout notes on `Body` and BENCHMARKS.md rely on.
+const _: () = assert!(size_of::<Body<2>>() == 64 && size_of::<Body<3>>() == 80);

@@ -290,8 +290,7 @@ impl<const D: usize> Simulation<D> {
         if n >= u32::MAX as usize {
             return bad(format!("{n} discs"));
         }
-        let mut body = Vec::with_capacity(n);
-        crate::hint::huge_pages(&mut body);
+        let mut body = crate::hint::records(n);
         let (mut mass, mut colour, mut species, mut image, mut below, mut times) = (
             Vec::with_capacity(n),
             Vec::with_capacity(n),
