@@ -16,6 +16,12 @@ pub(crate) fn prefetch<T>(x: &T) {
     let _ = x;
 }
 
+/// A huge page on x86-64 Linux.
+const HUGE_PAGE: usize = 2 << 20;
+
+/// The size from which an array asks for huge pages: smaller ones would gain one at most.
+const HUGE_FROM: usize = 2 * HUGE_PAGE;
+
 /// Asks the kernel to back the spare capacity of `v` with huge pages (2 MiB on x86-64; a hint:
 /// no effect on results). Call it before that memory is first written: pages are chosen when
 /// first touched. For the large arrays read at random by the event loop (the records of the
@@ -25,10 +31,9 @@ pub(crate) fn prefetch<T>(x: &T) {
 pub(crate) fn huge_pages<T>(v: &mut Vec<T>) {
     #[cfg(target_os = "linux")]
     {
-        const HUGE: usize = 2 << 20;
         let spare = v.spare_capacity_mut();
         let len = std::mem::size_of_val(spare);
-        if len < 2 * HUGE {
+        if len < HUGE_FROM {
             return;
         }
         advise(spare.as_mut_ptr() as usize, len);
@@ -65,12 +70,11 @@ pub(crate) type Records<T> = aligned_vec::AVec<T, aligned_vec::RuntimeAlign>;
 /// that 64-byte records each sit in one line, or to a huge page (2 MiB) when it takes 4 MiB
 /// or more, with [`huge_pages`]' advice for the whole of it.
 pub(crate) fn records<T>(n: usize) -> Records<T> {
-    const HUGE: usize = 2 << 20;
     let bytes = n.saturating_mul(std::mem::size_of::<T>());
-    let align = if bytes >= 2 * HUGE { HUGE } else { 64 };
+    let align = if bytes >= HUGE_FROM { HUGE_PAGE } else { 64 };
     let v = Records::with_capacity(align, n);
     #[cfg(target_os = "linux")]
-    if bytes >= 2 * HUGE {
+    if bytes >= HUGE_FROM {
         advise(v.as_ptr() as usize, bytes);
     }
     v
@@ -101,7 +105,7 @@ mod tests {
         let small = records::<[u8; 80]>(1000);
         assert_eq!(small.as_ptr() as usize % 64, 0);
         let large = records::<[u8; 80]>(100_000); // 8 MB
-        assert_eq!(large.as_ptr() as usize % (2 << 20), 0);
+        assert_eq!(large.as_ptr() as usize % HUGE_PAGE, 0);
         assert!(small.capacity() >= 1000 && large.capacity() >= 100_000);
     }
 
@@ -140,23 +144,21 @@ mod tests {
             }
             panic!("no mapping holds {addr:#x}");
         };
+        let marked = |addr: usize| flags(addr).split_whitespace().any(|f| f == "hg");
         let large = filled(0u64, 1 << 20); // 8 MiB
-        let middle = large.as_ptr() as usize + (4 << 20);
-        assert!(
-            flags(middle).split_whitespace().any(|f| f == "hg"),
-            "8 MiB array not marked for huge pages: {}",
-            flags(middle)
-        );
-        let recs = records::<[u8; 80]>(100_000);
-        let middle = recs.as_ptr() as usize + (4 << 20);
-        assert!(
-            flags(middle).split_whitespace().any(|f| f == "hg"),
-            "8 MB of records not marked for huge pages: {}",
-            flags(middle)
-        );
+        let recs = records::<[u8; 80]>(100_000); // 8 MB
+        for (what, start) in [
+            ("filled", large.as_ptr() as usize),
+            ("records", recs.as_ptr() as usize),
+        ] {
+            let middle = start + (4 << 20);
+            assert!(
+                marked(middle),
+                "8 MB from {what} not marked for huge pages: {}",
+                flags(middle)
+            );
+        }
         let small = filled(0u64, 1 << 10);
-        assert!(!flags(small.as_ptr() as usize)
-            .split_whitespace()
-            .any(|f| f == "hg"));
+        assert!(!marked(small.as_ptr() as usize));
     }
 }
