@@ -574,6 +574,48 @@ fn pack_checkpoint_with_a_particle_far_faster_than_the_rescaling_leaves_is_refus
     }
 }
 
+/// Found by fuzzing (`read_pack_checkpoint`, in a CI dry run of the eleventh session): a
+/// packing checkpoint whose scale was 2^768 times larger and whose particles' base diameters
+/// 2^768 times smaller than a genuine one's had the same particle sizes, and so passed every
+/// check, but its packing fraction was `0 * inf`, NaN (the base diameters' total area
+/// underflows, the squared scale overflows); its compression then ran for minutes without
+/// reaching a rescaling. A packing fraction that is not a positive finite number is now
+/// refused, and so is a box whose volume overflows.
+#[test]
+fn pack_checkpoint_whose_packing_fraction_is_not_a_number_is_refused() {
+    use edmd_core::pack::{random_start, PackOptions, PackSizes, Packer};
+    let (discs, sim_box) =
+        random_start::<2>(10, PackSizes::MONODISPERSE, Boundary::Periodic, 1).unwrap();
+    let good = Packer::new(&discs, sim_box, PackOptions::default())
+        .unwrap()
+        .checkpoint(b"");
+    Packer::<2>::from_checkpoint(&good).unwrap();
+    // Payload offsets as in the test above: the scale after the box (2 x 9) and the options
+    // (33); the particles (67 bytes each: position, velocity, base diameter, ...) at 150.
+    let exponent = |at: usize| at + 7;
+    let scaled = |bytes: &[u8], at: usize, up: bool| {
+        let e = bytes[HEADER + exponent(at)];
+        patched(bytes, exponent(at), if up { e + 0x30 } else { e - 0x30 })
+    };
+    let mut bad = scaled(&good, 51, true);
+    for k in 0..10 {
+        bad = scaled(&bad, 150 + 67 * k + 32, false);
+    }
+    match Packer::<2>::from_checkpoint(&bad) {
+        Err(Error::Checkpoint(m)) => assert!(m.contains("packing fraction NaN"), "{m}"),
+        other => panic!("{:?}", other.err()),
+    }
+    // Each box length 2^768 times longer: finite, but the area overflows.
+    let mut huge = good.clone();
+    for at in [0, 9] {
+        huge = scaled(&huge, at, true);
+    }
+    match Packer::<2>::from_checkpoint(&huge) {
+        Err(Error::Checkpoint(m)) => assert!(m.contains("a box of volume inf"), "{m}"),
+        other => panic!("{:?}", other.err()),
+    }
+}
+
 /// Found by fuzzing (`read_checkpoint`): a checkpoint whose disc has crossed the periodic
 /// boundary `i32::MAX` times panicked (in builds with overflow checks) at its next crossing,
 /// where the image count was stepped on with `-=`. Image counts now wrap, as the other

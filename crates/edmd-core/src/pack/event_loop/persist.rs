@@ -168,6 +168,12 @@ impl<const D: usize> Packer<D> {
             lengths,
             boundaries,
         };
+        if !sim_box.volume().is_finite() {
+            return bad(format!(
+                "a box of volume {} (lengths {lengths:?})",
+                sim_box.volume()
+            ));
+        }
         let options = PackOptions {
             growth_rate: r.f64()?,
             max_pressure: r.f64()?,
@@ -308,6 +314,11 @@ impl<const D: usize> Packer<D> {
                 return bad("cell lists out of the order a rebuild gives them");
             }
             packer.build_lists();
+        }
+        // Finite sizes in a finite box can still overflow the particles' total volume.
+        let phi = packer.packing_fraction();
+        if !(phi.is_finite() && phi > 0.0) {
+            return bad(format!("packing fraction {phi}"));
         }
         packer.predict_all();
         Ok((packer, extra))
