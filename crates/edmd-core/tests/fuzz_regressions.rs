@@ -544,6 +544,19 @@ fn a_contact_predicted_from_afar_is_found_at_contact() {
     assert!(gap.abs() < 1e-12, "{gap:e}");
 }
 
+/// A genuine packing checkpoint, checked to read back: ten discs in a periodic box, just
+/// started.
+fn good_pack_checkpoint() -> Vec<u8> {
+    use edmd_core::pack::{random_start, PackOptions, PackSizes, Packer};
+    let (discs, sim_box) =
+        random_start::<2>(10, PackSizes::MONODISPERSE, Boundary::Periodic, 1).unwrap();
+    let good = Packer::new(&discs, sim_box, PackOptions::default())
+        .unwrap()
+        .checkpoint(b"");
+    Packer::<2>::from_checkpoint(&good).unwrap();
+    good
+}
+
 /// Found by fuzzing (`read_pack_checkpoint`,
 /// `fuzz/corpus/read_pack_checkpoint/read_pack_checkpoint-fast-particle`): a packing checkpoint
 /// whose particle had a velocity of 1e86 was accepted, and its compression crossed cells
@@ -552,13 +565,8 @@ fn a_contact_predicted_from_afar_is_found_at_contact() {
 /// rounding) is now refused.
 #[test]
 fn pack_checkpoint_with_a_particle_far_faster_than_the_rescaling_leaves_is_refused() {
-    use edmd_core::pack::{random_start, PackOptions, PackSizes, Packer};
-    let (discs, sim_box) =
-        random_start::<2>(10, PackSizes::MONODISPERSE, Boundary::Periodic, 1).unwrap();
-    let good = Packer::new(&discs, sim_box, PackOptions::default())
-        .unwrap()
-        .checkpoint(b"");
-    Packer::<2>::from_checkpoint(&good).unwrap();
+    use edmd_core::pack::Packer;
+    let good = good_pack_checkpoint();
     // Payload: box (2 x 9), options (8 + 8 + 1 + 8 + 8), scale, lists flag, six counters, four
     // accumulators, two pressure flags, the count; then particle 0: position, velocity.
     let vel_x = 18 + 33 + 8 + 1 + 48 + 32 + 2 + 8 + 16;
@@ -583,13 +591,8 @@ fn pack_checkpoint_with_a_particle_far_faster_than_the_rescaling_leaves_is_refus
 /// refused, and so is a box whose volume overflows.
 #[test]
 fn pack_checkpoint_whose_packing_fraction_is_not_a_number_is_refused() {
-    use edmd_core::pack::{random_start, PackOptions, PackSizes, Packer};
-    let (discs, sim_box) =
-        random_start::<2>(10, PackSizes::MONODISPERSE, Boundary::Periodic, 1).unwrap();
-    let good = Packer::new(&discs, sim_box, PackOptions::default())
-        .unwrap()
-        .checkpoint(b"");
-    Packer::<2>::from_checkpoint(&good).unwrap();
+    use edmd_core::pack::Packer;
+    let good = good_pack_checkpoint();
     // Payload offsets as in the test above: the scale after the box (2 x 9) and the options
     // (33); the particles (67 bytes each: position, velocity, base diameter, ...) at 150.
     let exponent = |at: usize| at + 7;
