@@ -319,6 +319,9 @@ impl<const D: usize> Simulation<D> {
                     if partner as usize >= n {
                         return bad(format!("disc {i}: partner {partner} of {n}"));
                     }
+                    if partner as usize == i {
+                        return bad(format!("disc {i}: a collision with itself"));
+                    }
                     Pending::Disc { partner, seen }
                 }
                 k @ (2 | 3) => {
@@ -556,6 +559,17 @@ impl<const D: usize> Simulation<D> {
             if t > bound {
                 return bad(format!(
                     "disc {i}: its event at t = {t} is after it leaves its cell or meets a wall (t = {bound})"
+                ));
+            }
+            if !sim.own_event_agrees(i) {
+                let (what, axis, side) = match sim.body[i].pending {
+                    Pending::Cell { axis, side } => ("cell crossing", axis, side),
+                    Pending::Wall { axis, side } => ("wall contact", axis, side),
+                    _ => unreachable!("only crossings and wall contacts can disagree"),
+                };
+                return bad(format!(
+                    "disc {i}: its {what} (axis {axis}, {} side) at t = {t} is not the one its motion gives",
+                    if side == Side::High { "high" } else { "low" }
                 ));
             }
         }

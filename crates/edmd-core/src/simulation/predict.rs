@@ -89,6 +89,36 @@ impl<const D: usize> Simulation<D> {
         best_t
     }
 
+    /// Whether disc `i`'s pending cell crossing or wall contact is the one its own motion gives,
+    /// on the same axis and side and at the same time, computed as [`Self::predict`] computes
+    /// it (other events always agree here). For checking checkpoints: a crossing out of a
+    /// walled axis's end cell would wrap the disc to the far side of the box.
+    pub(super) fn own_event_agrees(&self, i: usize) -> bool {
+        let bi = self.body[i];
+        let t = self.queue.get(i);
+        match bi.pending {
+            Pending::Cell { axis, side } => {
+                let (dt, a, high) = self.grid.exit_time(i, bi.pos, bi.vel);
+                dt != f64::INFINITY
+                    && a == axis as usize
+                    && high == (side == Side::High)
+                    && t == bi.time + dt
+            }
+            Pending::Wall { axis, side } => {
+                let a = axis as usize;
+                !self.sim_box.is_periodic(a)
+                    && interval_exit(
+                        bi.pos[a],
+                        bi.vel[a],
+                        bi.radius,
+                        self.sim_box.lengths[a] - bi.radius,
+                    )
+                    .is_some_and(|(dt, s)| s == side && t == bi.time + dt)
+            }
+            _ => true,
+        }
+    }
+
     /// Finds disc `i`'s earliest event from the last event time on and schedules it.
     #[inline(always)]
     pub(super) fn predict(&mut self, i: usize) {
