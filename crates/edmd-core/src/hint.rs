@@ -158,7 +158,8 @@ mod tests {
                 flags(middle)
             );
         }
-        let small = filled(0u64, 1 << 10);
-        assert!(!marked(small.as_ptr() as usize));
+        // That small arrays are left alone cannot be seen here: a small allocation may reuse
+        // memory a large array freed with its advice (glibc serves large blocks from its heap
+        // once its mmap threshold has grown), and a CI run found one so marked.
     }
 }

@@ -507,7 +507,7 @@ fn checkpoint_with_an_event_after_the_disc_meets_a_wall_is_refused() {
     bad[end..].copy_from_slice(&crc.to_le_bytes());
     match Simulation::<2>::from_checkpoint(&bad) {
         Err(Error::Checkpoint(m)) => assert!(
-            m.contains("disc 0: its event at t = 280000000 is after it leaves its cell or meets a wall (t = 0.75)"),
+            m.contains("disc 0: its event at t = 280000000 is after it leaves its cell or meets a wall or barrier (t = 0.75)"),
             "{m}"
         ),
         other => panic!("{other:?}"),
@@ -791,4 +791,59 @@ fn checkpoint_with_a_collision_of_a_disc_with_itself_is_refused() {
     let crc = crc32fast::hash(&bad[..end]);
     bad[end..].copy_from_slice(&crc.to_le_bytes());
     assert!(Simulation::<2>::from_checkpoint(&bad).is_ok());
+}
+
+/// Found while fixing the crossing out of a walled end cell (above), by reading the reader: a
+/// disc's pending event was checked against its cell exit and wall contacts but not its
+/// barrier contacts, so a checkpoint whose disc was to cross into the next cell after meeting
+/// a solid barrier was accepted, and the disc went through the barrier. Pending events are now
+/// no later than the barrier contact, and a pending barrier event is the one the disc's motion
+/// gives, to the bit.
+#[test]
+fn checkpoint_whose_disc_would_pass_through_a_barrier_is_refused() {
+    let discs = [
+        Disc::new(Vector::new([1.0, 1.0]), Vector::new([1.0, 0.0]), 0.5),
+        Disc::new(Vector::new([8.0, 8.0]), Vector::new([0.0, 0.0]), 0.5),
+    ];
+    let walls = SimBox::walls([10.0, 10.0]);
+    // Without the barrier, disc 0 crosses into the next cell at x = 5, t = 4 (see above).
+    let open = Simulation::new(&discs, walls, Options::default()).unwrap();
+    let open = open.to_checkpoint(b"");
+    let crossing = HEADER + 100 + 8 + 16 + 16 + 8 + 8 + 4;
+    assert_eq!(&open[crossing..crossing + 3], &[3, 0, 1]);
+    assert_eq!(open[crossing + 3..crossing + 11], 4.0f64.to_le_bytes());
+    // With a solid barrier at x = 4.75 it meets the barrier first, at t = 3.25: code 4, the
+    // barrier's index (4 bytes) and the part (0, the face), then the event's time.
+    let wall = Barrier::solid(0, 4.75);
+    let sim = Simulation::with_barriers(&discs, walls, &[wall], Options::default()).unwrap();
+    let good = sim.to_checkpoint(b"");
+    let code = HEADER + 92 + 8 + 11 + 8 + 16 + 16 + 8 + 8 + 4;
+    assert_eq!(&good[code..code + 6], &[4, 0, 0, 0, 0, 0]);
+    assert_eq!(good[code + 6..code + 14], 3.25f64.to_le_bytes());
+    let reframed = |mut bad: Vec<u8>| {
+        let payload = (bad.len() - HEADER) as u64;
+        bad[16..24].copy_from_slice(&payload.to_le_bytes());
+        let crc = crc32fast::hash(&bad);
+        bad.extend_from_slice(&crc.to_le_bytes());
+        bad
+    };
+    let refused = |bytes: &[u8], what: &str| match Simulation::<2>::from_checkpoint(bytes) {
+        Err(Error::Checkpoint(m)) => assert!(m.contains(what), "{m}"),
+        other => panic!("{what}: {other:?}"),
+    };
+    // Its event made the crossing of the open box, at t = 4: past the barrier.
+    let mut through = good[..good.len() - 4].to_vec();
+    through.splice(
+        code..code + 14,
+        open[crossing..crossing + 11].iter().copied(),
+    );
+    refused(&reframed(through), "meets a wall or barrier");
+    // The barrier event a hair early: not the one its motion gives.
+    let early = 3.25f64.next_down().to_le_bytes();
+    let mut early_bytes = good[..good.len() - 4].to_vec();
+    early_bytes[code + 6..code + 14].copy_from_slice(&early);
+    refused(
+        &reframed(early_bytes),
+        "barrier event (0, part 0) at t = 3.2499",
+    );
 }

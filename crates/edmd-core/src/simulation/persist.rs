@@ -58,6 +58,18 @@ fn side(x: u8) -> Result<Side, Error> {
     }
 }
 
+/// An event of a disc's own motion, in words, for the reader's errors.
+fn describe(p: Pending) -> String {
+    let side = |s: Side| if s == Side::High { "high" } else { "low" };
+    match p {
+        Pending::Cell { axis, side: s } => format!("cell crossing (axis {axis}, {} side)", side(s)),
+        Pending::Wall { axis, side: s } => format!("wall contact (axis {axis}, {} side)", side(s)),
+        Pending::Barrier { index, part } => format!("barrier event ({index}, part {part})"),
+        Pending::Disc { partner, .. } => format!("collision with disc {partner}"),
+        Pending::Nothing => "no event".into(),
+    }
+}
+
 fn side_code(s: Side) -> u8 {
     match s {
         Side::Low => 0,
@@ -550,26 +562,28 @@ impl<const D: usize> Simulation<D> {
         if let Some(&i) = sim.discs_outside(super::OVERLAP_TOLERANCE).first() {
             return bad(format!("disc {i} is outside the box"));
         }
-        // A disc's event is the earliest it has, so never later than its cell exit or wall
-        // contact, which follow from its own motion alone (computed here exactly as when it was
-        // predicted, from its own clock); a later one would let it pass through a wall.
+        // A disc's event is the earliest it has, so never later than its cell exit, wall or
+        // barrier contact, which follow from its own motion alone (computed here exactly as
+        // when it was predicted, from its own clock); a later one would let it pass through a
+        // wall or a barrier. A pending event of one of those kinds is that one: a crossing out
+        // of a walled axis's end cell, say, would wrap the disc to the far side of the box.
         for i in 0..n {
-            let bound = sim.own_event_bound(i);
-            let t = sim.queue.get(i);
+            let (bound, own) = sim.own_event(i);
+            let (t, pending) = (sim.queue.get(i), sim.body[i].pending);
             if t > bound {
                 return bad(format!(
-                    "disc {i}: its event at t = {t} is after it leaves its cell or meets a wall (t = {bound})"
+                    "disc {i}: its event at t = {t} is after it leaves its cell or meets a wall or barrier (t = {bound})"
                 ));
             }
-            if !sim.own_event_agrees(i) {
-                let (what, axis, side) = match sim.body[i].pending {
-                    Pending::Cell { axis, side } => ("cell crossing", axis, side),
-                    Pending::Wall { axis, side } => ("wall contact", axis, side),
-                    _ => unreachable!("only crossings and wall contacts can disagree"),
-                };
+            let own_kind = matches!(
+                pending,
+                Pending::Cell { .. } | Pending::Wall { .. } | Pending::Barrier { .. }
+            );
+            if own_kind && (t, pending) != (bound, own) {
                 return bad(format!(
-                    "disc {i}: its {what} (axis {axis}, {} side) at t = {t} is not the one its motion gives",
-                    if side == Side::High { "high" } else { "low" }
+                    "disc {i}: its {} at t = {t} is not the one its motion gives ({} at t = {bound})",
+                    describe(pending),
+                    describe(own)
                 ));
             }
         }

@@ -19,8 +19,8 @@ impl<const D: usize> Simulation<D> {
         self.predict(i);
     }
 
-    /// The earliest barrier event of disc `i` (advanced to the last event time) if it beats
-    /// `(best_t, best)`.
+    /// The earliest barrier event of disc `i` from its own clock (when predicting, advanced to
+    /// the last event time) if it beats `(best_t, best)`.
     #[inline(never)]
     pub(super) fn predict_barriers(
         &self,
@@ -28,8 +28,8 @@ impl<const D: usize> Simulation<D> {
         mut best_t: f64,
         mut best: Pending,
     ) -> (f64, Pending) {
-        let t0 = self.event_time;
         let bi = self.body[i];
+        let t0 = bi.time;
         for (k, w) in self.barriers.iter().enumerate() {
             if let Some((dt, c)) =
                 time_to_barrier(bi.pos, bi.vel, bi.radius, w.axis, w.position, w.door)
@@ -62,61 +62,45 @@ impl<const D: usize> Simulation<D> {
         (best_t, best)
     }
 
-    /// The latest time disc `i`'s pending event can have: its cell exit or wall contact from
-    /// its own clock, whichever is first, computed as [`Self::predict`] computes them (it
-    /// predicts from the disc's own clock, having just advanced it). For checking checkpoints.
-    pub(super) fn own_event_bound(&self, i: usize) -> f64 {
+    /// Disc `i`'s earliest event that follows from its own motion alone (its cell exit, a wall
+    /// or a barrier), from its own clock, computed as [`Self::predict`] computes it (it
+    /// predicts from the disc's own clock, having just advanced it), ties decided the same
+    /// way. For checking checkpoints: a pending event is never later, and a pending event of
+    /// one of these kinds is this one, to the bit.
+    pub(super) fn own_event(&self, i: usize) -> (f64, Pending) {
         let bi = self.body[i];
-        let (dt, _, _) = self.grid.exit_time(i, bi.pos, bi.vel);
-        let mut best_t = if dt != f64::INFINITY {
-            bi.time + dt
-        } else {
-            f64::INFINITY
-        };
+        let (mut best_t, mut best) = (f64::INFINITY, Pending::Nothing);
+        let (dt, axis, high) = self.grid.exit_time(i, bi.pos, bi.vel);
+        if dt != f64::INFINITY {
+            best_t = bi.time + dt;
+            best = Pending::Cell {
+                axis: axis as u8,
+                side: if high { Side::High } else { Side::Low },
+            };
+        }
         for a in 0..D {
             if self.sim_box.is_periodic(a) {
                 continue;
             }
-            if let Some((dt, _)) = interval_exit(
+            if let Some((dt, side)) = interval_exit(
                 bi.pos[a],
                 bi.vel[a],
                 bi.radius,
                 self.sim_box.lengths[a] - bi.radius,
             ) {
-                best_t = best_t.min(bi.time + dt);
+                if bi.time + dt < best_t {
+                    best_t = bi.time + dt;
+                    best = Pending::Wall {
+                        axis: a as u8,
+                        side,
+                    };
+                }
             }
         }
-        best_t
-    }
-
-    /// Whether disc `i`'s pending cell crossing or wall contact is the one its own motion gives,
-    /// on the same axis and side and at the same time, computed as [`Self::predict`] computes
-    /// it (other events always agree here). For checking checkpoints: a crossing out of a
-    /// walled axis's end cell would wrap the disc to the far side of the box.
-    pub(super) fn own_event_agrees(&self, i: usize) -> bool {
-        let bi = self.body[i];
-        let t = self.queue.get(i);
-        match bi.pending {
-            Pending::Cell { axis, side } => {
-                let (dt, a, high) = self.grid.exit_time(i, bi.pos, bi.vel);
-                dt != f64::INFINITY
-                    && a == axis as usize
-                    && high == (side == Side::High)
-                    && t == bi.time + dt
-            }
-            Pending::Wall { axis, side } => {
-                let a = axis as usize;
-                !self.sim_box.is_periodic(a)
-                    && interval_exit(
-                        bi.pos[a],
-                        bi.vel[a],
-                        bi.radius,
-                        self.sim_box.lengths[a] - bi.radius,
-                    )
-                    .is_some_and(|(dt, s)| s == side && t == bi.time + dt)
-            }
-            _ => true,
+        if !self.barriers.is_empty() {
+            (best_t, best) = self.predict_barriers(i, best_t, best);
         }
+        (best_t, best)
     }
 
     /// Finds disc `i`'s earliest event from the last event time on and schedules it.
