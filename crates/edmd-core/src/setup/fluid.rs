@@ -408,8 +408,10 @@ fn make<const D: usize>(
             equilibrate + max
         ))
     })?;
+    let mut discs = sim.discs();
+    in_cell_order(&mut discs, sim.sim_box());
     let system = System {
-        discs: sim.discs(),
+        discs,
         sim_box: *sim.sim_box(),
         barriers: Vec::new(),
     };
@@ -423,6 +425,29 @@ fn make<const D: usize>(
         packing: packing_of(&system.discs, &system.sim_box),
     };
     Ok((system, report))
+}
+
+/// Puts `discs` in the order of the cells (about a diameter wide, the last axis slowest) that
+/// hold them, so that the discs around any one sit near it in memory: a run then reads fewer
+/// cache lines per prediction. In random order, as the lattice's random sites left them, a
+/// fluid of 10^5 spheres ran 10 to 25% slower (BENCHMARKS.md, twelfth session). Discs in one
+/// cell keep their order (a stable sort), so the result is a function of the discs alone.
+pub(crate) fn in_cell_order<const D: usize>(discs: &mut [Disc<D>], sim_box: &SimBox<D>) {
+    let width = discs.iter().map(|d| 2.0 * d.radius).fold(0.0, f64::max);
+    if discs.is_empty() || !(width > 0.0) {
+        return;
+    }
+    let cells = sim_box
+        .lengths
+        .map(|l| ((l / width).floor() as u64).clamp(1, 1 << 20));
+    let key = |d: &Disc<D>| {
+        (0..D).rev().fold(0u64, |k, a| {
+            let c = ((d.pos[a] / sim_box.lengths[a] * cells[a] as f64).floor() as u64)
+                .min(cells[a] - 1);
+            k * cells[a] + c
+        })
+    };
+    discs.sort_by_cached_key(key);
 }
 
 /// Checks the parameters that fluids and mixtures share.
