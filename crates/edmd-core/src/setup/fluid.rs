@@ -434,7 +434,7 @@ fn make<const D: usize>(
 /// cell keep their order (a stable sort), so the result is a function of the discs alone.
 pub(crate) fn in_cell_order<const D: usize>(discs: &mut [Disc<D>], sim_box: &SimBox<D>) {
     let width = discs.iter().map(|d| 2.0 * d.radius).fold(0.0, f64::max);
-    if discs.is_empty() || !(width > 0.0) {
+    if discs.is_empty() || width <= 0.0 {
         return;
     }
     let cells = sim_box
