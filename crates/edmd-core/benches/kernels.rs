@@ -6,7 +6,7 @@
 use std::hint::black_box;
 
 use criterion::{criterion_group, criterion_main, Criterion};
-use edmd_core::predict::{contact_time_or_inf, interval_exit};
+use edmd_core::predict::{contact_root, contact_terms, contact_time_or_inf, interval_exit};
 use edmd_core::schedule::{CalendarQueue, EventQueue, TournamentQueue};
 use edmd_core::Vector;
 
@@ -26,6 +26,20 @@ fn kernels(c: &mut Criterion) {
             let mut best = f64::INFINITY;
             for &(dr, dv) in &pairs {
                 best = best.min(contact_time_or_inf(black_box(dr), black_box(dv), 1.0));
+            }
+            best
+        })
+    });
+    // As a prediction does it (`simulation/predict.rs`, `Nearest`): every pair's terms, then
+    // the roots of those that meet only.
+    c.bench_function("disc_disc_1024_pairs_terms_then_roots", |b| {
+        b.iter(|| {
+            let mut best = f64::INFINITY;
+            for &(dr, dv) in &pairs {
+                let terms = contact_terms::<2, false>(black_box(dr), black_box(dv), 1.0);
+                if terms.meets() {
+                    best = best.min(contact_root(terms));
+                }
             }
             best
         })
