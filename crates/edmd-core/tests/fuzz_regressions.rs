@@ -721,6 +721,15 @@ fn a_disc_cutting_a_barrier_beside_a_wall_stays_in_the_box() {
     assert!(sim.position(0)[1] >= r, "{:?}", sim.position(0));
 }
 
+/// Disc 0 at (1, 1) heading along x at speed 1, disc 1 at rest at (8, 8), radii 0.5: in a
+/// 10 x 10 walled box the grid is 2 by 2, and disc 0's first event is its crossing at x = 5.
+fn two_discs() -> [Disc<2>; 2] {
+    [
+        Disc::new(Vector::new([1.0, 1.0]), Vector::new([1.0, 0.0]), 0.5),
+        Disc::new(Vector::new([8.0, 8.0]), Vector::new([0.0, 0.0]), 0.5),
+    ]
+}
+
 /// Found by fuzzing (`read_checkpoint`, `fuzz/corpus/read_checkpoint/read_checkpoint-crossing-out-of-a-walled-end-cell`):
 /// a disc's pending cell crossing was read without asking whether its motion gives it. A
 /// crossing out of the low end of a walled axis's only cell row was accepted; the grid wrapped
@@ -730,10 +739,7 @@ fn a_disc_cutting_a_barrier_beside_a_wall_stays_in_the_box() {
 /// computes them).
 #[test]
 fn checkpoint_with_a_cell_crossing_its_motion_does_not_give_is_refused() {
-    let discs = [
-        Disc::new(Vector::new([1.0, 1.0]), Vector::new([1.0, 0.0]), 0.5),
-        Disc::new(Vector::new([8.0, 8.0]), Vector::new([0.0, 0.0]), 0.5),
-    ];
+    let discs = two_discs();
     let sim = Simulation::new(&discs, SimBox::walls([10.0, 10.0]), Options::default()).unwrap();
     let good = sim.to_checkpoint(b"");
     assert!(Simulation::<2>::from_checkpoint(&good).is_ok());
@@ -765,10 +771,7 @@ fn checkpoint_with_a_cell_crossing_its_motion_does_not_give_is_refused() {
 /// zero, made its position and velocity NaN. Such a checkpoint is now refused.
 #[test]
 fn checkpoint_with_a_collision_of_a_disc_with_itself_is_refused() {
-    let discs = [
-        Disc::new(Vector::new([1.0, 1.0]), Vector::new([1.0, 0.0]), 0.5),
-        Disc::new(Vector::new([8.0, 8.0]), Vector::new([0.0, 0.0]), 0.5),
-    ];
+    let discs = two_discs();
     let sim = Simulation::new(&discs, SimBox::walls([10.0, 10.0]), Options::default()).unwrap();
     let good = sim.to_checkpoint(b"");
     // Disc 0's event (code 3, axis, side; see the test above) becomes code 1, a collision,
@@ -801,10 +804,7 @@ fn checkpoint_with_a_collision_of_a_disc_with_itself_is_refused() {
 /// gives, to the bit.
 #[test]
 fn checkpoint_whose_disc_would_pass_through_a_barrier_is_refused() {
-    let discs = [
-        Disc::new(Vector::new([1.0, 1.0]), Vector::new([1.0, 0.0]), 0.5),
-        Disc::new(Vector::new([8.0, 8.0]), Vector::new([0.0, 0.0]), 0.5),
-    ];
+    let discs = two_discs();
     let walls = SimBox::walls([10.0, 10.0]);
     // Without the barrier, disc 0 crosses into the next cell at x = 5, t = 4 (see above).
     let open = Simulation::new(&discs, walls, Options::default()).unwrap();

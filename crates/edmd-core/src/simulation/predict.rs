@@ -66,7 +66,9 @@ impl<const D: usize> Simulation<D> {
     /// or a barrier), from its own clock, computed as [`Self::predict`] computes it (it
     /// predicts from the disc's own clock, having just advanced it), ties decided the same
     /// way. For checking checkpoints: a pending event is never later, and a pending event of
-    /// one of these kinds is this one, to the bit.
+    /// one of these kinds is this one, to the bit. It repeats the start of `predict_with`,
+    /// which must stay in step with it: calling it from there instead cost 0.7% more
+    /// instructions per collision and measured slower in 2D (BENCHMARKS.md, twelfth session).
     pub(super) fn own_event(&self, i: usize) -> (f64, Pending) {
         let bi = self.body[i];
         let (mut best_t, mut best) = (f64::INFINITY, Pending::Nothing);
@@ -120,7 +122,8 @@ impl<const D: usize> Simulation<D> {
         self.predict_with::<true>(i)
     }
 
-    /// [`Self::predict`], the contact times in the far form when `FAR`.
+    /// [`Self::predict`], the contact times in the far form when `FAR`. Its start (cell exit,
+    /// walls, barriers) is [`Self::own_event`]'s, which must stay in step with it.
     #[inline(always)]
     fn predict_with<const FAR: bool>(&mut self, i: usize) {
         let t0 = self.event_time;
