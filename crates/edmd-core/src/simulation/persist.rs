@@ -60,10 +60,10 @@ fn side(x: u8) -> Result<Side, Error> {
 
 /// An event of a disc's own motion, in words, for the reader's errors.
 fn describe(p: Pending) -> String {
-    let side = |s: Side| if s == Side::High { "high" } else { "low" };
+    let end = |s: Side| if s == Side::High { "high" } else { "low" };
     match p {
-        Pending::Cell { axis, side: s } => format!("cell crossing (axis {axis}, {} side)", side(s)),
-        Pending::Wall { axis, side: s } => format!("wall contact (axis {axis}, {} side)", side(s)),
+        Pending::Cell { axis, side } => format!("cell crossing (axis {axis}, {} side)", end(side)),
+        Pending::Wall { axis, side } => format!("wall contact (axis {axis}, {} side)", end(side)),
         Pending::Barrier { index, part } => format!("barrier event ({index}, part {part})"),
         Pending::Disc { partner, .. } => format!("collision with disc {partner}"),
         Pending::Nothing => "no event".into(),
