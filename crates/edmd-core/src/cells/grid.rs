@@ -330,14 +330,20 @@ impl<const D: usize> CellGrid<D> {
     /// Calls `f(j, shift)` for every disc `j` in the cells around `c` (including `c` itself),
     /// where `shift` is the periodic image offset to add to `j`'s position.
     #[inline(always)]
-    pub fn for_each_near(&self, c: CellCoord<D>, mut f: impl FnMut(usize, Vector<D>)) {
+    pub fn for_each_near(&self, c: CellCoord<D>, f: impl FnMut(usize, Vector<D>)) {
+        self.visit_near(c, f)
+    }
+
+    /// [`Self::for_each_near`] with a [`Visit`].
+    #[inline(always)]
+    pub fn visit_near(&self, c: CellCoord<D>, mut f: impl Visit<D>) {
         if (0..D).all(|a| c[a] >= 1 && c[a] + 2 <= self.dims[a]) {
             // Away from the edges: no wrapping, no shift, plain index arithmetic.
             let base = self.linear(c) as isize;
             for &off in &self.linear_offsets[..Self::NEIGHBOURS] {
                 let mut j = self.head[(base + off) as usize];
                 while j != NONE {
-                    f(j as usize, Vector::ZERO);
+                    f.visit(j as usize, Vector::ZERO);
                     j = self.next[j as usize];
                 }
             }
@@ -365,7 +371,7 @@ impl<const D: usize> CellGrid<D> {
             }
             let mut j = self.head[k];
             while j != NONE {
-                f(j as usize, shift);
+                f.visit(j as usize, shift);
                 j = self.next[j as usize];
             }
         }
@@ -376,19 +382,20 @@ impl<const D: usize> CellGrid<D> {
     /// axis. In 3D a third of the cells of a 16^3 grid (N = 4000) touch an edge. The same discs
     /// are visited in the same order.
     #[inline(always)]
-    pub fn for_each_near_edges_once(&self, c: CellCoord<D>, mut f: impl FnMut(usize, Vector<D>)) {
+    pub fn for_each_near_edges_once(&self, c: CellCoord<D>, f: impl FnMut(usize, Vector<D>)) {
+        self.visit_near_edges_once(c, f)
+    }
+
+    /// [`Self::for_each_near_edges_once`] with a [`Visit`].
+    #[inline(always)]
+    pub fn visit_near_edges_once(&self, c: CellCoord<D>, mut f: impl Visit<D>) {
         // A function, not a closure, so that it can be inlined by force: outlined, it runs
         // without the x86-64-v3 loop's instruction set (measured: twice the instructions per
         // collision once the contact-time kernel grew, BENCHMARKS.md).
         #[inline(always)]
-        fn walk<const D: usize>(
-            next: &[u32],
-            mut j: u32,
-            shift: Vector<D>,
-            f: &mut impl FnMut(usize, Vector<D>),
-        ) {
+        fn walk<const D: usize>(next: &[u32], mut j: u32, shift: Vector<D>, f: &mut impl Visit<D>) {
             while j != NONE {
-                f(j as usize, shift);
+                f.visit(j as usize, shift);
                 j = next[j as usize];
             }
         }
@@ -508,6 +515,24 @@ impl<const D: usize> CellGrid<D> {
         self.head.capacity() * 4
             + self.next.capacity() * 4
             + self.cell.capacity() * std::mem::size_of::<CellCoord<D>>()
+    }
+}
+
+/// What a scan of the cells around a disc ([`CellGrid::for_each_near`]) does with each disc
+/// `j` it finds, `shift` being the periodic image offset to add to `j`'s position. Any
+/// `FnMut(usize, Vector<D>)` is one; the engine's prediction implements it on a type of its
+/// own, whose `visit` is inlined by force: a closure is inlined at the compiler's discretion,
+/// and outlined (its two call sites in a scan, its body grown) it runs without the x86-64-v3
+/// loop's instruction set (BENCHMARKS.md, twelfth session).
+pub trait Visit<const D: usize> {
+    /// Disc `j`, at `shift` from where it is filed.
+    fn visit(&mut self, j: usize, shift: Vector<D>);
+}
+
+impl<const D: usize, F: FnMut(usize, Vector<D>)> Visit<D> for F {
+    #[inline(always)]
+    fn visit(&mut self, j: usize, shift: Vector<D>) {
+        self(j, shift)
     }
 }
 

@@ -3,4 +3,4 @@
 
 pub mod grid;
 
-pub use grid::{CellGrid, NONE};
+pub use grid::{CellGrid, Visit, NONE};

@@ -287,14 +287,30 @@ impl<const D: usize> Simulation<D> {
         }
     }
 
-    /// If disc `i`'s pending event names a partner that has changed course since, predicts `i`
-    /// again and returns true.
+    /// If disc `i`'s pending event names a partner that has changed course since, schedules
+    /// `i`'s next event and returns true. In 3D that is the second-earliest event of `i`'s last
+    /// prediction when it kept one, without a scan: `i` has not changed course since, the
+    /// partner's new course was checked against `i` when the partner was predicted again, and
+    /// every other disc that changed course since was too; the rest were seen by `i`'s
+    /// prediction, none before the second event (BENCHMARKS.md, thirteenth session). Otherwise
+    /// (2D, whose trajectories stay as they were, or no second event) `i` is predicted again.
     #[inline(always)]
     pub(super) fn discard_if_stale(&mut self, i: usize) -> bool {
         if let Pending::Disc { partner, seen } = self.body[i].pending {
             if self.body[partner as usize].count != seen {
                 self.stats.stale = self.stats.stale.wrapping_add(1);
-                self.predict(i);
+                // Taken, so that a second stale event predicts afresh.
+                let (t2, second) = if D == 3 {
+                    std::mem::replace(&mut self.second[i], (f64::INFINITY, Pending::Nothing))
+                } else {
+                    (f64::INFINITY, Pending::Nothing)
+                };
+                if second != Pending::Nothing {
+                    self.body[i].pending = second;
+                    self.queue.set(i, t2);
+                } else {
+                    self.predict(i);
+                }
                 return true;
             }
         }

@@ -129,6 +129,10 @@ pub struct Simulation<const D: usize = 2> {
     last_cluster: Vec<usize>,
     /// Scratch space of the predictions: the candidates that meet ([`predict::Kept`]).
     kept: predict::Kept,
+    /// 3D: each sphere's second-earliest event from its last prediction (`+inf` and nothing
+    /// when its earliest is its own: a cell exit or a wall), for `discard_if_stale`. 24 bytes
+    /// per sphere.
+    second: Vec<(f64, Pending)>,
     /// Run the event loop compiled for x86-64-v3 (see `run_chunk`).
     v3: bool,
     /// Events in a row at `event_time` counted so far (a lower bound; see `stall.rs`).
@@ -287,6 +291,7 @@ impl<const D: usize> Simulation<D> {
             multi: options.multi,
             last_cluster: Vec::new(),
             kept: predict::Kept::default(),
+            second: vec![(f64::INFINITY, Pending::Nothing); if D == 3 { n } else { 0 }],
             v3: false,
             still: 0,
             chunk_time: 0.0,
@@ -507,6 +512,7 @@ impl<const D: usize> Simulation<D> {
     pub fn memory_bytes(&self) -> usize {
         use std::mem::size_of;
         self.body.capacity() * size_of::<Body<D>>()
+            + self.second.capacity() * size_of::<(f64, Pending)>()
             + self.mass.capacity() * 8
             + self.colour.capacity() * size_of::<Colour>()
             + self.species.capacity() * 2

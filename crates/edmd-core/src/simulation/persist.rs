@@ -31,8 +31,10 @@ use crate::frame::{self, Reader, Writer};
 /// The first bytes of every checkpoint.
 pub const MAGIC: &[u8; 8] = frame::RUN.magic;
 
-/// The checkpoint format this build writes. It reads this one and version 1 (which lacked the
-/// stall watcher's chunk position: a version-1 checkpoint continues as if at a chunk's start).
+/// The checkpoint format this build writes. It reads this one, version 2 (which lacked the
+/// spheres' second-earliest events: a 3D version-2 checkpoint continues with none, so its
+/// first stale events are predicted afresh) and version 1 (which also lacked the stall
+/// watcher's chunk position: a version-1 checkpoint continues as if at a chunk's start).
 pub const FORMAT_VERSION: u32 = frame::RUN.version;
 
 /// Whether `bytes` start like a checkpoint (the magic number).
@@ -68,6 +70,88 @@ fn describe(p: Pending) -> String {
         Pending::Disc { partner, .. } => format!("collision with disc {partner}"),
         Pending::Nothing => "no event".into(),
     }
+}
+
+/// A pending event as the checkpoint writes it.
+fn write_pending(w: &mut Writer, p: Pending) {
+    match p {
+        Pending::Nothing => w.u8(0),
+        Pending::Disc { partner, seen } => {
+            w.u8(1);
+            w.u32(partner);
+            w.u32(seen);
+        }
+        Pending::Wall { axis, side } => {
+            w.u8(2);
+            w.u8(axis);
+            w.u8(side_code(side));
+        }
+        Pending::Cell { axis, side } => {
+            w.u8(3);
+            w.u8(axis);
+            w.u8(side_code(side));
+        }
+        Pending::Barrier { index, part } => {
+            w.u8(4);
+            w.u32(index as u32);
+            w.u8(part);
+        }
+    }
+}
+
+/// A pending event of disc `i` of `n`, checked as far as it can be alone.
+fn read_pending<const D: usize>(
+    r: &mut Reader,
+    i: usize,
+    n: usize,
+    barriers: &[Barrier],
+) -> Result<Pending, Error> {
+    let pending = match r.u8()? {
+        0 => Pending::Nothing,
+        1 => {
+            let partner = r.u32()?;
+            let seen = r.u32()?;
+            if partner as usize >= n {
+                return bad(format!("disc {i}: partner {partner} of {n}"));
+            }
+            if partner as usize == i {
+                return bad(format!("disc {i}: a collision with itself"));
+            }
+            Pending::Disc { partner, seen }
+        }
+        k @ (2 | 3) => {
+            let axis = r.u8()?;
+            let s = side(r.u8()?)?;
+            if axis as usize >= D {
+                return bad(format!("disc {i}: axis {axis}"));
+            }
+            if k == 2 {
+                Pending::Wall { axis, side: s }
+            } else {
+                Pending::Cell { axis, side: s }
+            }
+        }
+        4 => {
+            let index = r.u32()?;
+            let part = r.u8()?;
+            if index as usize >= barriers.len() || part > 3 {
+                return bad(format!("disc {i}: barrier event {index}/{part}"));
+            }
+            // Door edges (1, 2) need a door, the doorway (3) a demon.
+            let w = &barriers[index as usize];
+            if (matches!(part, 1 | 2) && w.door.is_none()) || (part == 3 && w.demon.is_none()) {
+                return bad(format!(
+                    "disc {i}: barrier event {index}/{part} at a barrier without that door or demon"
+                ));
+            }
+            Pending::Barrier {
+                index: index as u16,
+                part,
+            }
+        }
+        x => return bad(format!("disc {i}: event code {x}")),
+    };
+    Ok(pending)
 }
 
 fn side_code(s: Side) -> u8 {
@@ -145,29 +229,7 @@ impl<const D: usize> Simulation<D> {
             w.f64(b.time);
             w.f64(b.radius);
             w.u32(b.count);
-            match b.pending {
-                Pending::Nothing => w.u8(0),
-                Pending::Disc { partner, seen } => {
-                    w.u8(1);
-                    w.u32(partner);
-                    w.u32(seen);
-                }
-                Pending::Wall { axis, side } => {
-                    w.u8(2);
-                    w.u8(axis);
-                    w.u8(side_code(side));
-                }
-                Pending::Cell { axis, side } => {
-                    w.u8(3);
-                    w.u8(axis);
-                    w.u8(side_code(side));
-                }
-                Pending::Barrier { index, part } => {
-                    w.u8(4);
-                    w.u32(index as u32);
-                    w.u8(part);
-                }
-            }
+            write_pending(&mut w, b.pending);
             w.f64(self.queue.get(i));
             w.f64(self.mass[i]);
             for c in self.colour[i] {
@@ -215,6 +277,13 @@ impl<const D: usize> Simulation<D> {
                 for &d in &s.discs {
                     w.len(d);
                 }
+            }
+        }
+        // 3D: each sphere's second-earliest event, which a stale event falls back on (format 3).
+        if D == 3 {
+            for &(t, p) in &self.second {
+                w.f64(t);
+                write_pending(&mut w, p);
             }
         }
         w.bytes(extra);
@@ -323,53 +392,7 @@ impl<const D: usize> Simulation<D> {
             let time = r.f64()?;
             let radius = r.f64()?;
             let count = r.u32()?;
-            let pending = match r.u8()? {
-                0 => Pending::Nothing,
-                1 => {
-                    let partner = r.u32()?;
-                    let seen = r.u32()?;
-                    if partner as usize >= n {
-                        return bad(format!("disc {i}: partner {partner} of {n}"));
-                    }
-                    if partner as usize == i {
-                        return bad(format!("disc {i}: a collision with itself"));
-                    }
-                    Pending::Disc { partner, seen }
-                }
-                k @ (2 | 3) => {
-                    let axis = r.u8()?;
-                    let s = side(r.u8()?)?;
-                    if axis as usize >= D {
-                        return bad(format!("disc {i}: axis {axis}"));
-                    }
-                    if k == 2 {
-                        Pending::Wall { axis, side: s }
-                    } else {
-                        Pending::Cell { axis, side: s }
-                    }
-                }
-                4 => {
-                    let index = r.u32()?;
-                    let part = r.u8()?;
-                    if index as usize >= barriers.len() || part > 3 {
-                        return bad(format!("disc {i}: barrier event {index}/{part}"));
-                    }
-                    // Door edges (1, 2) need a door, the doorway (3) a demon.
-                    let w = &barriers[index as usize];
-                    if (matches!(part, 1 | 2) && w.door.is_none())
-                        || (part == 3 && w.demon.is_none())
-                    {
-                        return bad(format!(
-                            "disc {i}: barrier event {index}/{part} at a barrier without that door or demon"
-                        ));
-                    }
-                    Pending::Barrier {
-                        index: index as u16,
-                        part,
-                    }
-                }
-                x => return bad(format!("disc {i}: event code {x}")),
-            };
+            let pending = read_pending::<D>(&mut r, i, n, &barriers)?;
             let finite = (0..D).all(|a| pos[a].is_finite() && vel[a].is_finite());
             if !(finite && time.is_finite() && radius.is_finite() && radius > 0.0) {
                 return bad(format!(
@@ -512,6 +535,22 @@ impl<const D: usize> Simulation<D> {
             }
             x => return bad(format!("stall code {x}")),
         };
+        // 3D from format 3: the second-earliest events, no earlier than the first.
+        let mut second = vec![(f64::INFINITY, Pending::Nothing); if D == 3 { n } else { 0 }];
+        if D == 3 && version >= 3 {
+            for (i, s) in second.iter_mut().enumerate() {
+                let t = r.f64()?;
+                let p = read_pending::<D>(&mut r, i, n, &barriers)?;
+                if t.is_nan() || t < times[i] || (p == Pending::Nothing) != (t == f64::INFINITY) {
+                    return bad(format!(
+                        "disc {i}: a second event ({}) at t = {t} with its first at t = {}",
+                        describe(p),
+                        times[i]
+                    ));
+                }
+                *s = (t, p);
+            }
+        }
         let extra = r.bytes()?.to_vec();
         if !r.at_end() {
             return bad("bytes after the end of the state");
@@ -549,6 +588,7 @@ impl<const D: usize> Simulation<D> {
             multi,
             last_cluster,
             kept: super::predict::Kept::default(),
+            second,
             v3: false,
             still,
             chunk_time,
@@ -569,22 +609,26 @@ impl<const D: usize> Simulation<D> {
         // of a walled axis's end cell, say, would wrap the disc to the far side of the box.
         for i in 0..n {
             let (bound, own) = sim.own_event(i);
-            let (t, pending) = (sim.queue.get(i), sim.body[i].pending);
-            if t > bound {
-                return bad(format!(
-                    "disc {i}: its event at t = {t} is after it leaves its cell or meets a wall or barrier (t = {bound})"
-                ));
-            }
-            let own_kind = matches!(
-                pending,
-                Pending::Cell { .. } | Pending::Wall { .. } | Pending::Barrier { .. }
-            );
-            if own_kind && (t, pending) != (bound, own) {
-                return bad(format!(
-                    "disc {i}: its {} at t = {t} is not the one its motion gives ({} at t = {bound})",
-                    describe(pending),
-                    describe(own)
-                ));
+            let first = (sim.queue.get(i), sim.body[i].pending);
+            let second = sim.second.get(i).copied();
+            let second = second.filter(|&(_, p)| p != Pending::Nothing);
+            for (t, pending) in std::iter::once(first).chain(second) {
+                if t > bound {
+                    return bad(format!(
+                        "disc {i}: its event at t = {t} is after it leaves its cell or meets a wall or barrier (t = {bound})"
+                    ));
+                }
+                let own_kind = matches!(
+                    pending,
+                    Pending::Cell { .. } | Pending::Wall { .. } | Pending::Barrier { .. }
+                );
+                if own_kind && (t, pending) != (bound, own) {
+                    return bad(format!(
+                        "disc {i}: its {} at t = {t} is not the one its motion gives ({} at t = {bound})",
+                        describe(pending),
+                        describe(own)
+                    ));
+                }
             }
         }
         Ok((sim, extra))

@@ -1,6 +1,6 @@
 //! Prediction: a disc's earliest event (cell exit, walls, barriers, the discs around it).
 
-use crate::cells::CellGrid;
+use crate::cells::{CellGrid, Visit};
 use crate::events::{Pending, Side};
 use crate::math::Vector;
 use crate::predict::barrier::{time_to_barrier, time_to_doorway, Contact};
@@ -10,7 +10,7 @@ use crate::predict::{
 use crate::schedule::EventQueue;
 use crate::state::SimBox;
 
-use super::{Simulation, NO_PARTNER};
+use super::{Body, Simulation, NO_PARTNER};
 
 impl<const D: usize> Simulation<D> {
     /// [`Self::predict`] as a function of its own, for the places off the event loop.
@@ -165,38 +165,68 @@ impl<const D: usize> Simulation<D> {
         // Every candidate's contact terms are worked out, and those that meet are kept, without
         // branches (whether a pair meets is a coin toss for the branch predictor); only the
         // kept ones pay for the square root and the division (BENCHMARKS.md, tenth session).
-        let body = &self.body;
-        let mut nearest = Nearest::new(t0, best_t, &mut self.kept);
-        let pair = |j: usize, shift: Vector<D>, nearest: &mut Nearest| {
-            let bj = &body[j];
-            let pj = bj.position_at(t0) + shift;
-            // Disc `i` itself is at `dr = 0` (or a whole box length: a periodic image), with
-            // `dv = 0`, which never meets (`b = 0`): no test needed.
-            nearest.offer(
-                j,
-                contact_terms::<D, FAR>(pj - bi.pos, bj.vel - bi.vel, bi.radius + bj.radius),
-            );
+        let mut scan = Candidates::<D, FAR> {
+            body: &self.body,
+            t0,
+            own: bi,
+            nearest: Nearest::new(t0, best_t, &mut self.kept),
         };
         let c = self.grid.cell_of(i);
         if D == 3 {
             // The scan that works out the neighbour cells near the grid's edges once per axis
             // (a third of the cells at N = 4000 touch an edge; BENCHMARKS.md). In 2D the plain
             // scan is kept as it was measured.
-            self.grid
-                .for_each_near_edges_once(c, |j, shift| pair(j, shift, &mut nearest));
+            self.grid.visit_near_edges_once(c, &mut scan);
         } else {
-            self.grid
-                .for_each_near(c, |j, shift| pair(j, shift, &mut nearest));
+            self.grid.visit_near(c, &mut scan);
         }
-        let (best_t, partner) = nearest.settle();
+        let nearest = scan.nearest;
+        let own = best;
+        let (best_t, partner, second_t, second_partner) = nearest.settle();
         if partner != NO_PARTNER {
             best = Pending::Disc {
                 partner,
                 seen: self.body[partner as usize].count,
             };
+            if D == 3 {
+                let second = if second_partner != NO_PARTNER {
+                    Pending::Disc {
+                        partner: second_partner,
+                        seen: self.body[second_partner as usize].count,
+                    }
+                } else {
+                    own
+                };
+                self.second[i] = (second_t, second);
+            }
+        } else if D == 3 {
+            self.second[i] = (f64::INFINITY, Pending::Nothing);
         }
         self.body[i].pending = best;
         self.queue.set(i, best_t);
+    }
+}
+
+/// A prediction's scan of the discs around the disc predicted (`own`, advanced to `t0`):
+/// each candidate's contact terms go to [`Nearest`].
+struct Candidates<'a, const D: usize, const FAR: bool> {
+    body: &'a [Body<D>],
+    t0: f64,
+    own: Body<D>,
+    nearest: Nearest<'a>,
+}
+
+impl<const D: usize, const FAR: bool> Visit<D> for &mut Candidates<'_, D, FAR> {
+    #[inline(always)]
+    fn visit(&mut self, j: usize, shift: Vector<D>) {
+        let (bi, bj) = (&self.own, &self.body[j]);
+        let pj = bj.position_at(self.t0) + shift;
+        // Disc `i` itself is at `dr = 0` (or a whole box length: a periodic image), with
+        // `dv = 0`, which never meets (`b = 0`): no test needed.
+        self.nearest.offer(
+            j,
+            contact_terms::<D, FAR>(pj - bi.pos, bj.vel - bi.vel, bi.radius + bj.radius),
+        );
     }
 }
 
@@ -211,6 +241,8 @@ struct Nearest<'a> {
     t0: f64,
     best_t: f64,
     partner: u32,
+    second_t: f64,
+    second: u32,
     kept: usize,
     store: &'a mut Kept,
 }
@@ -240,6 +272,8 @@ impl<'a> Nearest<'a> {
             t0,
             best_t,
             partner: NO_PARTNER,
+            second_t: f64::INFINITY,
+            second: NO_PARTNER,
             kept: 0,
             store,
         }
@@ -264,8 +298,13 @@ impl<'a> Nearest<'a> {
     fn roots(&mut self) {
         for k in 0..self.kept.min(KEPT) {
             let t = self.t0 + contact_root(self.store.terms[k]);
+            let w = self.store.which[k];
             let keep = ((t < self.best_t) as u32).wrapping_neg();
-            self.partner = (self.store.which[k] & keep) | (self.partner & !keep);
+            let next = ((t < self.second_t) as u32).wrapping_neg();
+            // The second: the old best if `t` beats it, else `t` if it beats the second.
+            self.second = (self.partner & keep) | (!keep & ((w & next) | (self.second & !next)));
+            self.second_t = self.second_t.min(self.best_t.max(t));
+            self.partner = (w & keep) | (self.partner & !keep);
             self.best_t = self.best_t.min(t);
         }
         self.kept = 0;
@@ -274,9 +313,9 @@ impl<'a> Nearest<'a> {
     /// The earliest time and its partner (`NO_PARTNER` if no pair beats the time given to
     /// [`Self::new`]).
     #[inline(always)]
-    fn settle(mut self) -> (f64, u32) {
+    fn settle(mut self) -> (f64, u32, f64, u32) {
         self.roots();
-        (self.best_t, self.partner)
+        (self.best_t, self.partner, self.second_t, self.second)
     }
 }
 
@@ -316,22 +355,19 @@ mod tests {
         contact_terms::<3, false>(dr, dv, 1.0)
     }
 
-    /// What `Nearest` replaces: every contact time computed and the earliest taken, the first
-    /// on ties.
-    fn plainly(t0: f64, best_t: f64, terms: &[ContactTerms]) -> (f64, u32) {
-        let mut best = (best_t, NO_PARTNER);
+    /// What `Nearest` replaces: every contact time computed, the event already found
+    /// (`best_t`, no partner) and the pairs that meet sorted by time in the order found (a
+    /// stable sort, so the first found wins a tie), and the first two taken.
+    fn plainly(t0: f64, best_t: f64, terms: &[ContactTerms]) -> (f64, u32, f64, u32) {
+        let mut all = vec![(best_t, NO_PARTNER)];
         for (j, &tm) in terms.iter().enumerate() {
-            let t = t0
-                + if tm.meets() {
-                    contact_root(tm)
-                } else {
-                    f64::INFINITY
-                };
-            if t < best.0 {
-                best = (t, j as u32);
+            if tm.meets() {
+                all.push((t0 + contact_root(tm), j as u32));
             }
         }
-        best
+        all.push((f64::INFINITY, NO_PARTNER));
+        all.sort_by(|a, b| a.0.total_cmp(&b.0));
+        (all[0].0, all[0].1, all[1].0, all[1].1)
     }
 
     #[test]
@@ -360,7 +396,7 @@ mod tests {
     fn nearest_keeps_the_first_of_a_tie_and_agrees_with_the_kernel() {
         let mut state = 11;
         let mut terms: Vec<ContactTerms> = (0..200).map(|_| random_terms(&mut state)).collect();
-        let (_, winner) = plainly(0.0, f64::INFINITY, &terms);
+        let (_, winner, _, _) = plainly(0.0, f64::INFINITY, &terms);
         assert_ne!(winner, NO_PARTNER);
         // The winning pair offered again at the end, after several full buffers: an exact tie.
         terms.push(terms[winner as usize]);
@@ -377,8 +413,9 @@ mod tests {
         let mut kept = Kept::default();
         let mut nearest = Nearest::new(0.0, f64::INFINITY, &mut kept);
         nearest.offer(4, contact_terms::<3, false>(dr, dv, 1.0));
-        let (t, partner) = nearest.settle();
+        let (t, partner, second_t, _) = nearest.settle();
         assert_eq!((t, partner), (contact_time::<3, false>(dr, dv, 1.0), 4));
+        assert_eq!(second_t, f64::INFINITY);
         assert!((t - (2.0 - 0.75f64.sqrt())).abs() < 1e-15, "{t}");
     }
 }
