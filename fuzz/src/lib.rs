@@ -504,7 +504,10 @@ fn accepted<const D: usize>(bytes: &[u8], mut sim: Simulation<D>, extra: &[u8]) 
     // must then round-trip.
     let written = sim.to_checkpoint(extra);
     if bytes.get(8..12) == Some(&edmd_core::CHECKPOINT_VERSION.to_le_bytes()[..]) {
-        assert!(written == bytes, "an accepted checkpoint does not round-trip");
+        assert!(
+            written == bytes,
+            "an accepted checkpoint does not round-trip"
+        );
     } else {
         let (copy, _) =
             Simulation::<D>::from_checkpoint(&written).expect("an older checkpoint written anew");
