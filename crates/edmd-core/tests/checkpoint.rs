@@ -6,8 +6,8 @@
 use edmd_core::setup::generators::{generate, GenKind};
 use edmd_core::setup::lattice::lattice_fluid_in;
 use edmd_core::{
-    checkpoint_dim, Barrier, Boundary, Demon, Error, MultiContact, Options, SimBox, Simulation,
-    CHECKPOINT_VERSION,
+    checkpoint_dim, Barrier, Boundary, Demon, Disc, Error, MultiContact, Options, SimBox,
+    Simulation, Vector, CHECKPOINT_VERSION,
 };
 
 use crate::support::random_discs;
@@ -181,4 +181,78 @@ fn damaged_checkpoints_are_refused_never_read() {
             Err(Error::Checkpoint(_))
         ));
     }
+}
+
+// Format 3 (thirteenth session) carries each sphere's second-earliest event, on which a stale
+// event falls back without a scan. Two spheres in a walled box of one cell per axis closing
+// head on: each has the collision at t = 2.5 ((8 - 2 - 1) / 2) first and its wall contact at
+// t = 7.5 (x = 9.5 and x = 0.5) second. The second events are the payload's last section
+// before the caller's bytes (here a length of 0, 8 bytes): per sphere its time (8 bytes) and
+// event (code 2, a wall, then the axis and the side), 11 bytes each.
+#[test]
+fn second_events_are_carried_checked_and_optional_in_older_checkpoints() {
+    let spheres = [
+        Disc::new(
+            Vector::new([2.0, 5.0, 5.0]),
+            Vector::new([1.0, 0.0, 0.0]),
+            0.5,
+        ),
+        Disc::new(
+            Vector::new([8.0, 5.0, 5.0]),
+            Vector::new([-1.0, 0.0, 0.0]),
+            0.5,
+        ),
+    ];
+    let sim = Simulation::new(&spheres, SimBox::walls([10.0; 3]), Options::default()).unwrap();
+    assert_eq!(sim.grid_dims(), [1, 1, 1]);
+    let good = sim.to_checkpoint(b"");
+    let end = good.len() - 4 - 8;
+    let at = end - 22;
+    let second = |high: u8| [&7.5f64.to_le_bytes()[..], &[2, 0, high]].concat();
+    assert_eq!(&good[at..end], [second(1), second(0)].concat());
+    let reframed = |mut bytes: Vec<u8>, version: u32| {
+        bytes.truncate(bytes.len() - 4);
+        bytes[8..12].copy_from_slice(&version.to_le_bytes());
+        let payload = (bytes.len() - 24) as u64;
+        bytes[16..24].copy_from_slice(&payload.to_le_bytes());
+        let crc = crc32fast::hash(&bytes);
+        bytes.extend_from_slice(&crc.to_le_bytes());
+        bytes
+    };
+    let refused = |bytes: &[u8], what: &str| match Simulation::<3>::from_checkpoint(bytes) {
+        Err(Error::Checkpoint(m)) => assert!(m.contains(what), "{m}"),
+        other => panic!("{what}: {other:?}"),
+    };
+    // A wall contact that is not the one the motion gives, and one before the first event.
+    for (t, what) in [
+        (7.25, "not the one its motion gives"),
+        (2.0, "with its first at"),
+    ] {
+        let mut bad = good.clone();
+        bad[at..at + 8].copy_from_slice(&f64::to_le_bytes(t));
+        refused(&reframed(bad, CHECKPOINT_VERSION), what);
+    }
+    // A collision of sphere 0 with itself as its second event.
+    let mut bad = good[..at].to_vec();
+    bad.extend_from_slice(&7.5f64.to_le_bytes());
+    bad.extend_from_slice(&[1, 0, 0, 0, 0, 0, 0, 0, 0]);
+    bad.extend_from_slice(&good[at + 11..]);
+    refused(
+        &reframed(bad, CHECKPOINT_VERSION),
+        "a collision with itself",
+    );
+    // Format 2 had no second events: read, it runs on as the same physics.
+    let v2 = reframed([&good[..at], &good[end..]].concat(), 2);
+    let (mut old, _) = Simulation::<3>::from_checkpoint(&v2).unwrap();
+    let (mut new, _) = Simulation::<3>::from_checkpoint(&good).unwrap();
+    old.run_until(20.0, &mut ());
+    new.run_until(20.0, &mut ());
+    assert_eq!(old.discs(), new.discs());
+    assert_eq!(
+        old.stats().disc_disc,
+        3,
+        "at t = 2.5, 10.5 and 18.5, each sphere meeting its wall between"
+    );
+    assert_eq!(old.stats().disc_disc, new.stats().disc_disc);
+    assert_eq!(old.stats().wall, new.stats().wall);
 }
