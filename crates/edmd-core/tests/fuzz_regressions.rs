@@ -847,3 +847,47 @@ fn checkpoint_whose_disc_would_pass_through_a_barrier_is_refused() {
         "barrier event (0, part 0) at t = 3.2499",
     );
 }
+
+/// Found by fuzzing (`read_checkpoint`, `fuzz/corpus/read_checkpoint/read_checkpoint-nonfinite-after-run`,
+/// a payload the harness frames as a 2D checkpoint): three discs with multi-disc collisions at
+/// tolerance 0 and exponent 3, disc 1 about to meet disc 0, which touches disc 2 and creeps
+/// towards it at a subnormal speed (1.8e-314). The cluster search, taking contacts within the
+/// tolerance only, left out the colliding pair itself (a hair beyond contact by rounding), so
+/// only the creeping contact was stepped: its time scale overflowed and the velocities of
+/// discs 0 and 2 became infinite. The pair is now always a contact (and a contact too slow
+/// for its time scale is parted without stepping: `resolve::cluster`'s own test).
+#[test]
+fn multi_disc_collision_whose_pair_is_a_hair_beyond_the_tolerance_is_resolved() {
+    let input = std::fs::read(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../fuzz/corpus/read_checkpoint/read_checkpoint-nonfinite-after-run"
+    ))
+    .unwrap();
+    // The harness's frame: magic, version, dimension 2 (the mode byte's low bit is 0), the
+    // payload's length, the payload (the input after its mode byte), the CRC-32.
+    let payload = &input[1..];
+    let mut bytes = b"EDMDCKPT".to_vec();
+    bytes.extend_from_slice(&edmd_core::CHECKPOINT_VERSION.to_le_bytes());
+    bytes.extend_from_slice(&2u32.to_le_bytes());
+    bytes.extend_from_slice(&(payload.len() as u64).to_le_bytes());
+    bytes.extend_from_slice(payload);
+    let crc = crc32fast::hash(&bytes);
+    bytes.extend_from_slice(&crc.to_le_bytes());
+    let (mut sim, _) = Simulation::<2>::from_checkpoint(&bytes).unwrap();
+    let v1 = sim.discs()[1].vel;
+    let mut collisions = 0;
+    while collisions == 0 {
+        let e = sim.step(f64::INFINITY).expect("an event");
+        if let edmd_core::EventKind::DiscDisc { .. } = e.kind {
+            collisions += 1;
+            assert_eq!(sim.last_cluster(), [1, 0, 2]);
+        }
+    }
+    assert_ne!(sim.discs()[1].vel, v1, "the pair's collision was resolved");
+    sim.run_events(300, &mut ());
+    assert!(sim.stalled().is_none());
+    assert!(sim
+        .discs()
+        .iter()
+        .all(|d| d.pos.is_finite() && d.vel.is_finite()));
+}

@@ -66,6 +66,14 @@ impl<const D: usize> Simulation<D> {
         if members.len() <= 2 {
             return None;
         }
+        // The colliding pair is a contact even where rounding puts it a hair beyond the
+        // tolerance (with tolerance 0 it was left out: its collision was never resolved and
+        // came round again at the same time, the clock stopped). Added last, so that where
+        // the search found it the contacts are as they were.
+        if !contacts.iter().any(|&(x, y, _)| (x, y) == (0, 1)) {
+            let d = frame[1] - frame[0];
+            contacts.push((0, 1, d / d.norm2().sqrt()));
+        }
         let mut vel: Vec<Vector<D>> = members.iter().map(|&x| self.body[x].vel).collect();
         let mass: Vec<f64> = members.iter().map(|&x| self.mass[x]).collect();
         let cc: Vec<crate::resolve::cluster::ClusterContact<D>> = contacts
