@@ -10,7 +10,7 @@ use edmd_core::{
     Simulation, Vector, CHECKPOINT_VERSION,
 };
 
-use crate::support::random_discs;
+use crate::support::{random_discs, reframed};
 
 /// Runs `sim` to `t1`, checkpoints, reads back, runs both the original and the copy to `t2`
 /// (the original never stopped: `run_until(t1)` changes nothing but the observation time), and
@@ -210,14 +210,11 @@ fn second_events_are_carried_checked_and_optional_in_older_checkpoints() {
     let at = end - 22;
     let second = |high: u8| [&7.5f64.to_le_bytes()[..], &[2, 0, high]].concat();
     assert_eq!(&good[at..end], [second(1), second(0)].concat());
-    let reframed = |mut bytes: Vec<u8>, version: u32| {
+    // Without its checksum, at `version`, framed again.
+    let at_version = |mut bytes: Vec<u8>, version: u32| {
         bytes.truncate(bytes.len() - 4);
         bytes[8..12].copy_from_slice(&version.to_le_bytes());
-        let payload = (bytes.len() - 24) as u64;
-        bytes[16..24].copy_from_slice(&payload.to_le_bytes());
-        let crc = crc32fast::hash(&bytes);
-        bytes.extend_from_slice(&crc.to_le_bytes());
-        bytes
+        reframed(bytes)
     };
     let refused = |bytes: &[u8], what: &str| match Simulation::<3>::from_checkpoint(bytes) {
         Err(Error::Checkpoint(m)) => assert!(m.contains(what), "{m}"),
@@ -230,7 +227,7 @@ fn second_events_are_carried_checked_and_optional_in_older_checkpoints() {
     ] {
         let mut bad = good.clone();
         bad[at..at + 8].copy_from_slice(&f64::to_le_bytes(t));
-        refused(&reframed(bad, CHECKPOINT_VERSION), what);
+        refused(&at_version(bad, CHECKPOINT_VERSION), what);
     }
     // A collision of sphere 0 with itself as its second event.
     let mut bad = good[..at].to_vec();
@@ -238,11 +235,11 @@ fn second_events_are_carried_checked_and_optional_in_older_checkpoints() {
     bad.extend_from_slice(&[1, 0, 0, 0, 0, 0, 0, 0, 0]);
     bad.extend_from_slice(&good[at + 11..]);
     refused(
-        &reframed(bad, CHECKPOINT_VERSION),
+        &at_version(bad, CHECKPOINT_VERSION),
         "a collision with itself",
     );
     // Format 2 had no second events: read, it runs on as the same physics.
-    let v2 = reframed([&good[..at], &good[end..]].concat(), 2);
+    let v2 = at_version([&good[..at], &good[end..]].concat(), 2);
     let (mut old, _) = Simulation::<3>::from_checkpoint(&v2).unwrap();
     let (mut new, _) = Simulation::<3>::from_checkpoint(&good).unwrap();
     old.run_until(20.0, &mut ());

@@ -1,6 +1,7 @@
 //! Regressions found by the fuzz targets (`fuzz/`, RELIABILITY.md), one test per defect, named
 //! after what broke.
 
+use crate::support::reframed;
 use edmd_core::{
     Barrier, Boundary, CollisionRule, Disc, Error, MultiContact, Options, SimBox, Simulation,
     StallCause, Vector, OVERLAP_TOLERANCE,
@@ -820,13 +821,6 @@ fn checkpoint_whose_disc_would_pass_through_a_barrier_is_refused() {
     let code = HEADER + 92 + 8 + 11 + 8 + 16 + 16 + 8 + 8 + 4;
     assert_eq!(&good[code..code + 6], &[4, 0, 0, 0, 0, 0]);
     assert_eq!(good[code + 6..code + 14], 3.25f64.to_le_bytes());
-    let reframed = |mut bad: Vec<u8>| {
-        let payload = (bad.len() - HEADER) as u64;
-        bad[16..24].copy_from_slice(&payload.to_le_bytes());
-        let crc = crc32fast::hash(&bad);
-        bad.extend_from_slice(&crc.to_le_bytes());
-        bad
-    };
     let refused = |bytes: &[u8], what: &str| match Simulation::<2>::from_checkpoint(bytes) {
         Err(Error::Checkpoint(m)) => assert!(m.contains(what), "{m}"),
         other => panic!("{what}: {other:?}"),
@@ -865,15 +859,12 @@ fn multi_disc_collision_whose_pair_is_a_hair_beyond_the_tolerance_is_resolved() 
     .unwrap();
     // The harness's frame: magic, version, dimension 2 (the mode byte's low bit is 0), the
     // payload's length, the payload (the input after its mode byte), the CRC-32.
-    let payload = &input[1..];
     let mut bytes = b"EDMDCKPT".to_vec();
     bytes.extend_from_slice(&edmd_core::CHECKPOINT_VERSION.to_le_bytes());
     bytes.extend_from_slice(&2u32.to_le_bytes());
-    bytes.extend_from_slice(&(payload.len() as u64).to_le_bytes());
-    bytes.extend_from_slice(payload);
-    let crc = crc32fast::hash(&bytes);
-    bytes.extend_from_slice(&crc.to_le_bytes());
-    let (mut sim, _) = Simulation::<2>::from_checkpoint(&bytes).unwrap();
+    bytes.extend_from_slice(&[0; 8]);
+    bytes.extend_from_slice(&input[1..]);
+    let (mut sim, _) = Simulation::<2>::from_checkpoint(&reframed(bytes)).unwrap();
     let v1 = sim.discs()[1].vel;
     let mut collisions = 0;
     while collisions == 0 {

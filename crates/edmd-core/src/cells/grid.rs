@@ -523,7 +523,7 @@ impl<const D: usize> CellGrid<D> {
 /// `FnMut(usize, Vector<D>)` is one; the engine's prediction implements it on a type of its
 /// own, whose `visit` is inlined by force: a closure is inlined at the compiler's discretion,
 /// and outlined (its two call sites in a scan, its body grown) it runs without the x86-64-v3
-/// loop's instruction set (BENCHMARKS.md, twelfth session).
+/// loop's instruction set (BENCHMARKS.md, twelfth and thirteenth sessions).
 pub trait Visit<const D: usize> {
     /// Disc `j`, at `shift` from where it is filed.
     fn visit(&mut self, j: usize, shift: Vector<D>);

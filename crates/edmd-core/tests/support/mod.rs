@@ -64,3 +64,14 @@ pub fn digest(discs: &[Disc]) -> u64 {
     }
     h
 }
+
+/// A checkpoint file from its header and payload without the checksum (`bytes`, whose header
+/// may carry any payload length): the header's payload length set and the CRC-32 appended,
+/// so that only the payload's own checks can refuse it.
+pub fn reframed(mut bytes: Vec<u8>) -> Vec<u8> {
+    let payload = (bytes.len() - 24) as u64;
+    bytes[16..24].copy_from_slice(&payload.to_le_bytes());
+    let crc = crc32fast::hash(&bytes);
+    bytes.extend_from_slice(&crc.to_le_bytes());
+    bytes
+}
