@@ -98,24 +98,35 @@ impl Stall {
     }
 }
 
+/// A time as a reader takes it in: as is from 0.001 to 10^9, in exponent form beyond
+/// (`5.95140722740378e-12`, not `0.00000000000595140722740378`); exact either way (the shortest
+/// decimal that reads back to the same number).
+fn readable(t: f64) -> String {
+    if t == 0.0 || (1e-3..1e9).contains(&t.abs()) {
+        format!("{t}")
+    } else {
+        format!("{t:e}")
+    }
+}
+
 impl fmt::Display for Stall {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let time = readable(self.time);
         match self.cause {
             StallCause::Clock => write!(
                 f,
-                "the clock stopped advancing at t = {}: {} events in a row at that time",
-                self.time, self.events
+                "the clock stopped advancing at t = {time}: {} events in a row at that time",
+                self.events
             )?,
             StallCause::Cluster => write!(
                 f,
-                "a multi-disc collision at t = {} did not end within {} contact steps",
-                self.time,
+                "a multi-disc collision at t = {time} did not end within {} contact steps",
                 crate::resolve::cluster::MAX_CONTACT_STEPS
             )?,
             StallCause::Creep => write!(
                 f,
-                "the clock stopped advancing at t = {}: {} events in a row moved it by next to nothing",
-                self.time, self.events
+                "the clock stopped advancing at t = {time}: {} events in a row moved it by next to nothing",
+                self.events
             )?,
         }
         if !self.discs.is_empty() {
@@ -292,5 +303,24 @@ impl<const D: usize> Simulation<D> {
         let mut discs = discs.to_vec();
         discs.sort_unstable();
         self.stall = Some(Stall::new(t, 1, discs, StallCause::Cluster));
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::readable;
+
+    #[test]
+    fn stall_times_read_back_and_read_easily() {
+        assert_eq!(readable(0.0), "0");
+        assert_eq!(readable(2.5), "2.5");
+        assert_eq!(readable(123456.75), "123456.75");
+        // The time of a stall `edmd run` once printed as 0.00000000000595140722740378.
+        let t = 0.00000000000595140722740378;
+        assert_eq!(readable(t), "5.95140722740378e-12");
+        assert_eq!(readable(3e12), "3e12");
+        for x in [t, 3e12, 1.0 / 3.0, 1e-3, 1e9, -7.25e-9] {
+            assert_eq!(readable(x).parse::<f64>().unwrap(), x);
+        }
     }
 }
