@@ -253,3 +253,144 @@ fn second_events_are_carried_checked_and_optional_in_older_checkpoints() {
     assert_eq!(old.stats().disc_disc, new.stats().disc_disc);
     assert_eq!(old.stats().wall, new.stats().wall);
 }
+
+/// A pair's pending collisions cannot be recomputed to the bit from a checkpoint (a partner's
+/// record may have moved on since), so each is read as it is; but a pair whose events would let
+/// it pass through a contact is refused: one of the two must look at the other again (its
+/// event, or in 3D the second event a stale one falls back on) before they would overlap
+/// beyond what the overlap check allows. Two discs meeting head on at t = 2.5 (x = 4.5 and
+/// 5.5; a 2 by 2 grid, so neither crosses into the other's cell first).
+#[test]
+fn pending_events_that_let_a_pair_pass_through_a_contact_are_refused() {
+    let discs = [
+        Disc::new(Vector::new([2.0, 5.0]), Vector::new([1.0, 0.0]), 0.5),
+        Disc::new(Vector::new([8.0, 5.0]), Vector::new([-1.0, 0.0]), 0.5),
+    ];
+    let sim = Simulation::new(&discs, SimBox::walls([10.0, 10.0]), Options::default()).unwrap();
+    assert_eq!(sim.grid_dims(), [2, 2]);
+    let good = sim.to_checkpoint(b"");
+    // Each disc's record: after the 100 bytes before the discs and their count, its position,
+    // velocity, clock, radius and counter (52 bytes), its event (code 1, partner, counter seen)
+    // and the event's time; 92 bytes in all.
+    let event = |k: usize| 24 + 108 + 92 * k + 52;
+    for (k, partner) in [(0, 1), (1, 0)] {
+        let at = event(k);
+        assert_eq!(&good[at..at + 9], &[1, partner, 0, 0, 0, 0, 0, 0, 0]);
+        assert_eq!(good[at + 9..at + 17], 2.5f64.to_le_bytes());
+    }
+    let with_times = |t: f64| {
+        let mut bytes = good[..good.len() - 4].to_vec();
+        for k in 0..2 {
+            bytes[event(k) + 9..event(k) + 17].copy_from_slice(&t.to_le_bytes());
+        }
+        reframed(bytes)
+    };
+    // Each an event with the right partner, but both at t = 2.9: by then the discs would
+    // overlap by 0.8 of their contact distance.
+    match Simulation::<2>::from_checkpoint(&with_times(2.9)) {
+        Err(Error::Checkpoint(m)) => assert!(
+            m.contains("discs 0 and 1 meet at t = 2.5, but neither has an event that looks at the other before t = 2.9"),
+            "{m}"
+        ),
+        other => panic!("{other:?}"),
+    }
+    // A hair late (2e-12 of the contact distance by then) is within the overlap check's
+    // tolerance (1e-9), as rounding is, and is read.
+    assert!(Simulation::<2>::from_checkpoint(&with_times(2.5 + 1e-12)).is_ok());
+    assert!(Simulation::<2>::from_checkpoint(&with_times(2.5)).is_ok());
+}
+
+/// The same for spheres, through their second events: a stale event falls back on the second
+/// without looking around, so a pair whose two events are both stale (their partners' counters
+/// moved on) and whose second events are later than the contact would pass through it. Two
+/// spheres meeting at t = 2.5, each with its wall at t = 7.5 as its second event (the test
+/// above).
+#[test]
+fn stale_events_whose_second_events_let_a_pair_of_spheres_pass_through_are_refused() {
+    let spheres = [
+        Disc::new(
+            Vector::new([2.0, 5.0, 5.0]),
+            Vector::new([1.0, 0.0, 0.0]),
+            0.5,
+        ),
+        Disc::new(
+            Vector::new([8.0, 5.0, 5.0]),
+            Vector::new([-1.0, 0.0, 0.0]),
+            0.5,
+        ),
+    ];
+    let sim = Simulation::new(&spheres, SimBox::walls([10.0; 3]), Options::default()).unwrap();
+    let good = sim.to_checkpoint(b"");
+    // Records of 112 bytes after the 109 bytes before the spheres and their count: position,
+    // velocity, clock, radius and counter (68 bytes), then the event: code 1, the partner and
+    // the counter seen (its bytes 5 to 8).
+    let seen = |k: usize| 24 + 117 + 112 * k + 68 + 5;
+    for k in 0..2 {
+        assert_eq!(
+            &good[seen(k) - 5..seen(k) + 4],
+            &[1, 1 - k as u8, 0, 0, 0, 0, 0, 0, 0]
+        );
+    }
+    let stale = |which: &[usize]| {
+        let mut bytes = good[..good.len() - 4].to_vec();
+        for &k in which {
+            bytes[seen(k)] = 7;
+        }
+        reframed(bytes)
+    };
+    match Simulation::<3>::from_checkpoint(&stale(&[0, 1])) {
+        Err(Error::Checkpoint(m)) => assert!(
+            m.contains("discs 0 and 1 meet at t = 2.5, but neither has an event that looks at the other before t = 7.5"),
+            "{m}"
+        ),
+        other => panic!("{other:?}"),
+    }
+    // One stale event is a state a run can reach (its partner changed course since, and was
+    // predicted again): sphere 0 falls back on its wall, and sphere 1's live event is the
+    // collision, at t = 2.5 as before.
+    for which in [&[0][..], &[1]] {
+        let (mut one, _) = Simulation::<3>::from_checkpoint(&stale(which)).unwrap();
+        one.run_until(3.0, &mut ());
+        assert_eq!(one.stats().disc_disc, 1);
+        assert!(one.overlaps(0.0).count == 0);
+    }
+}
+
+/// The demon's yardstick, twice the mean `m v^2`, is kept from the start (energy is
+/// conserved), set again when the velocities are changed, and checked on reading against the
+/// discs' kinetic energy: one that is not theirs would move a demon's thresholds and, far too
+/// large, keep the stall watcher from seeing a creeping clock.
+#[test]
+fn the_mean_kinetic_energy_carried_is_the_discs_own() {
+    let discs = random_discs(20, 10.0, 0.2, 0.4, true, 8);
+    let mut sim = Simulation::new(&discs, SimBox::walls([10.0, 10.0]), Options::default()).unwrap();
+    sim.run_until(1.0, &mut ());
+    // Changed velocities (Python's `velocities` setter) are carried with their own yardstick.
+    sim.modify_velocities(|_, v| v * 3.0);
+    let good = sim.to_checkpoint(b"");
+    let (mut copy, _) = Simulation::<2>::from_checkpoint(&good).unwrap();
+    copy.run_until(2.0, &mut ());
+    // The yardstick follows the box lengths and boundaries (18 bytes), the rule, the
+    // multi-contact code, the two clocks, five counters and the adjusted count: 84 bytes in.
+    let at = 24 + 84;
+    let mean = f64::from_le_bytes(good[at..at + 8].try_into().unwrap());
+    assert_eq!(mean, 4.0 * sim.kinetic_energy() / 20.0);
+    for forged in [
+        mean * 10.0,
+        mean * (1.0 + 1e-5),
+        f64::NAN,
+        f64::INFINITY,
+        -mean,
+    ] {
+        let mut bad = good[..good.len() - 4].to_vec();
+        bad[at..at + 8].copy_from_slice(&forged.to_le_bytes());
+        match Simulation::<2>::from_checkpoint(&reframed(bad)) {
+            Err(Error::Checkpoint(m)) => assert!(m.contains("mean m v^2"), "{m}"),
+            other => panic!("{forged}: {other:?}"),
+        }
+    }
+    // Rounding is not refused: energy is conserved to far better than 1e-6.
+    let mut close = good[..good.len() - 4].to_vec();
+    close[at..at + 8].copy_from_slice(&(mean * (1.0 + 1e-9)).to_le_bytes());
+    assert!(Simulation::<2>::from_checkpoint(&reframed(close)).is_ok());
+}

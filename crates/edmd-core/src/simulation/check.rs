@@ -2,6 +2,9 @@
 
 use super::Simulation;
 use crate::error::Error;
+use crate::events::Pending;
+use crate::predict::{contact_root, contact_terms};
+use crate::schedule::EventQueue;
 use crate::state::{Disc, SimBox};
 
 impl<const D: usize> Simulation<D> {
@@ -34,6 +37,81 @@ impl<const D: usize> Simulation<D> {
             });
         }
         report
+    }
+
+    /// The first pair (in scan order) whose pending events would let it pass through a contact:
+    /// `(i, j, contact time, the earliest event that would look at the pair again)`. For
+    /// checking checkpoints, whose pending collisions cannot be recomputed to the bit (a
+    /// partner's record may have moved on since the prediction).
+    ///
+    /// Why every honest state passes. A disc's events are predicted whenever its course
+    /// changes, from its new course and that of every disc around it. So for a pair that meets
+    /// at `t_c`, whichever of the two was predicted last saw the other on its present course:
+    /// its event is no later than `t_c`, and in 3D, unless the pair is its earliest event, so
+    /// is its second-earliest (the fallback of a stale event, taken without a new scan). The
+    /// time at which disc `i` will look at `j` again is therefore its event's time, unless it
+    /// has a second event and its event is not a live collision with `j` (a stale event falls
+    /// back on the second without looking), in which case it is the second's.
+    ///
+    /// Rounding. The contact time computed here, from the discs' clocks at the last event,
+    /// differs in its last bits from the one predicted, most for grazing pairs. So a pair is
+    /// reported only when, by the time either looks again (or by its closest approach, if
+    /// earlier), the two would be closer than the overlap check allows (`sigma (1 - tol)`
+    /// less [`super::OVERLAP_ROUNDING`]` (L + (|v_i| + |v_j|) |t|)`): a pair that is let
+    /// through by no more than that is one the overlap check would not see either.
+    pub(super) fn missed_contact(&self) -> Option<(usize, usize, f64, f64)> {
+        let t0 = self.event_time;
+        let longest = self.sim_box.lengths.iter().copied().fold(0.0, f64::max);
+        let looks_again = |i: usize, j: usize| {
+            let (t1, first) = (self.queue.get(i), self.body[i].pending);
+            let (t2, second) = self
+                .second
+                .get(i)
+                .copied()
+                .unwrap_or((f64::INFINITY, Pending::Nothing));
+            let live_with_j = matches!(first, Pending::Disc { partner, seen }
+                if partner as usize == j && seen == self.body[j].count);
+            if second == Pending::Nothing || live_with_j {
+                t1
+            } else {
+                t2
+            }
+        };
+        let mut missed = None;
+        for i in 0..self.len() {
+            let bi = &self.body[i];
+            let pi = bi.position_at(t0);
+            self.grid.for_each_near(self.grid.cell_of(i), |j, shift| {
+                if j <= i || missed.is_some() {
+                    return;
+                }
+                let bj = &self.body[j];
+                let dr = bj.position_at(t0) + shift - pi;
+                let dv = bj.vel - bi.vel;
+                let sigma = bi.radius + bj.radius;
+                let terms = contact_terms::<D, true>(dr, dv, sigma);
+                if !terms.meets() {
+                    return;
+                }
+                let t_contact = t0 + contact_root(terms);
+                let again = looks_again(i, j).min(looks_again(j, i));
+                if again <= t_contact {
+                    return;
+                }
+                // Their closest approach (`b < 0`, so `a > 0`) or the time either looks again.
+                let t = again.min(t0 - terms.b / dv.norm2());
+                let gap = (dr + dv * (t - t0)).norm2().sqrt();
+                let speeds = bi.vel.norm2().sqrt() + bj.vel.norm2().sqrt();
+                let rounding = super::OVERLAP_ROUNDING * (longest + speeds * t.abs());
+                if gap < sigma * (1.0 - super::OVERLAP_TOLERANCE) - rounding {
+                    missed = Some((i, j, t_contact, again));
+                }
+            });
+            if missed.is_some() {
+                break;
+            }
+        }
+        missed
     }
 
     /// Discs outside the box (walled axes) at the current time, beyond `tol` relative to radius.

@@ -119,7 +119,9 @@ pub struct Simulation<const D: usize = 2> {
     /// Per disc, bit `k` set when the disc is on the low side of barrier `k` (demon doors
     /// decide by the side a disc comes from). Empty without barriers.
     below: Vec<u8>,
-    /// Mean of `m v^2` over the discs, the demon's yardstick (constant: energy is conserved).
+    /// Twice the mean of `m v^2` over the discs (`4 KE / n`), the demon's yardstick and the
+    /// measure of the fastest speed energy allows (constant: energy is conserved; set again
+    /// by [`Self::modify_velocities`]).
     mean_mv2: f64,
     /// The stall watcher's creep bound: a chunk of events that moves the clock by no more
     /// than this counts as standing still (`stall.rs`, `Simulation::creep_span`).
@@ -302,11 +304,7 @@ impl<const D: usize> Simulation<D> {
         validate_barriers(barriers, &sim.sim_box)?;
         sim.barriers = barriers.to_vec();
         sim.below = vec![0; if barriers.is_empty() { 0 } else { n }];
-        sim.mean_mv2 = if n > 0 {
-            4.0 * sim.kinetic_energy() / n as f64
-        } else {
-            0.0
-        };
+        sim.mean_mv2 = sim.mean_mv2_now();
         sim.creep_span = sim.creep_span();
         sim.file_all_in_grid();
         if options.overlaps == OverlapPolicy::Refuse {
@@ -466,14 +464,34 @@ impl<const D: usize> Simulation<D> {
         p
     }
 
+    /// The demon's yardstick [`Self::mean_mv2`] worked out from the present velocities.
+    fn mean_mv2_now(&self) -> f64 {
+        if self.body.is_empty() {
+            0.0
+        } else {
+            4.0 * self.kinetic_energy() / self.body.len() as f64
+        }
+    }
+
     /// Reverses every velocity at the current time (time-reversal experiments) and schedules
-    /// everything again.
+    /// everything again. The kinetic energy is the same, bit for bit, and so are the demon's
+    /// yardstick and the stall watcher's creep bound.
     pub fn reverse_velocities(&mut self) {
-        self.modify_velocities(|_, v| -v);
+        self.replace_velocities(|_, v| -v);
     }
 
     /// Replaces every velocity by `f(i, v)` at the current time and schedules everything again.
-    pub fn modify_velocities(&mut self, mut f: impl FnMut(usize, Vector<D>) -> Vector<D>) {
+    /// What depends on the kinetic energy follows it: the demon's yardstick (the mean `m v^2`)
+    /// and the stall watcher's creep bound (from the fastest speed energy allows), which would
+    /// otherwise, after speeds raised a hundred-million-fold, take an honest run for a creeping
+    /// one.
+    pub fn modify_velocities(&mut self, f: impl FnMut(usize, Vector<D>) -> Vector<D>) {
+        self.replace_velocities(f);
+        self.mean_mv2 = self.mean_mv2_now();
+        self.creep_span = self.creep_span();
+    }
+
+    fn replace_velocities(&mut self, mut f: impl FnMut(usize, Vector<D>) -> Vector<D>) {
         let now = self.now;
         for (i, b) in self.body.iter_mut().enumerate() {
             b.advance_to(now);
