@@ -248,6 +248,48 @@ fn lexical_absolute(path: &Path) -> PathBuf {
     out
 }
 
+/// Refuses (exit status 2, before any work) an output file that cannot be written where it is
+/// named: a name ending in `/` or naming a folder, or one in a folder that does not exist.
+/// Each entry is `(what, path)`; `-` and devices are skipped. Checked at the start because
+/// some outputs are first written late (a checkpoint when it falls due, a file once the run
+/// is over), and a run's work should not be lost to a name that could never be written.
+pub fn check_file_destinations(outputs: &[(&str, &Path)]) -> Result<()> {
+    for &(what, path) in outputs {
+        if path.as_os_str() == "-" || is_special(path) {
+            continue;
+        }
+        let refuse =
+            |why: String| Err(UserError(format!("{}: {what} {why}", path.display())).into());
+        if path.as_os_str().as_encoded_bytes().ends_with(b"/") || resolve_links(path).is_dir() {
+            return refuse("names a folder; give a file name".to_string());
+        }
+        let parent = path
+            .parent()
+            .filter(|p| !p.as_os_str().is_empty())
+            .unwrap_or(Path::new("."));
+        if !parent.is_dir() {
+            return refuse(format!(
+                "is in a folder that does not exist ({})",
+                parent.display()
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// Refuses (exit status 2, before any work) a folder for output files that exists as
+/// something else (a file): it could not be made.
+pub fn check_folder_destination(what: &str, dir: &Path) -> Result<()> {
+    if dir.exists() && !dir.is_dir() {
+        return Err(UserError(format!(
+            "{}: {what} names a file, not a folder; give a folder (it is made if it does not exist)",
+            dir.display()
+        ))
+        .into());
+    }
+    Ok(())
+}
+
 /// Refuses (exit status 2, before any work) when an output is one of the inputs or two outputs
 /// are the same file. Each entry is `(what, path)`, e.g. `("--trajectory", "t.xyz")`; `-`
 /// (standard input or output) is skipped, and so are character devices (`/dev/null`), which

@@ -1176,3 +1176,232 @@ fn multi_disc_collisions_at_extreme_mass_ratios_fail_saying_why() {
     refused_with(&out, "nothing written");
     assert_eq!(names(dir.path()), ["pinch.txt"]);
 }
+
+/// Found by a new user's walk through 3D (fourteenth session): an output that could never be
+/// written was found only when it was written, after the work: `-o newdir/` (a folder that
+/// does not exist, by its trailing `/`) after the whole run; `--checkpoint newd/` or a
+/// checkpoint in a missing folder when the first one fell due (for `edmd pack`, never in a
+/// short run, and with all the work lost at Ctrl-C); and `--out-dir` naming a file after the
+/// run, with the other outputs written and left behind (exit status 2). Each is now refused
+/// before any work, with nothing written.
+#[test]
+fn outputs_that_could_never_be_written_are_refused_before_any_work() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = |name: &str| dir.path().join(name).to_string_lossy().into_owned();
+    let input = write(&dir, "in.txt", &format!("1\n{P10_LINE}\n"));
+    let (out, ck, xyz) = (d("out.txt"), d("ck.ck"), d("t.xyz"));
+    let s = |v: &[&str]| v.iter().map(|x| x.to_string()).collect::<Vec<String>>();
+    let cases: Vec<(Vec<String>, &str)> = vec![
+        (
+            s(&["run", &input, "--until", "5", "-o", &d("newdir/")]),
+            "--output names a folder",
+        ),
+        (
+            s(&[
+                "run",
+                &input,
+                "--until",
+                "5",
+                "-o",
+                &out,
+                "--checkpoint",
+                &d("newd/"),
+            ]),
+            "--checkpoint names a folder",
+        ),
+        (
+            s(&[
+                "run",
+                &input,
+                "--until",
+                "5",
+                "-o",
+                &out,
+                "--checkpoint",
+                &d("nod/ck"),
+            ]),
+            "--checkpoint is in a folder that does not exist",
+        ),
+        (
+            s(&[
+                "run",
+                &input,
+                "--until",
+                "5",
+                "-o",
+                &out,
+                "--trajectory",
+                &d("nod/t.xyz"),
+                "--every",
+                "1",
+            ]),
+            "--trajectory is in a folder that does not exist",
+        ),
+        (
+            s(&[
+                "run",
+                &input,
+                "--until",
+                "5",
+                "-o",
+                &out,
+                "--checkpoint",
+                &ck,
+                "--trajectory",
+                &xyz,
+                "--every",
+                "1",
+                "--measure",
+                "pressure",
+                "--out-dir",
+                &input,
+            ]),
+            "--out-dir names a file, not a folder",
+        ),
+        (
+            s(&[
+                "gen",
+                "fluid",
+                "--dim",
+                "3",
+                "--n",
+                "100",
+                "-o",
+                &d("newd/"),
+            ]),
+            "--output names a folder",
+        ),
+        (
+            s(&[
+                "pack",
+                "--dim",
+                "3",
+                "--n",
+                "100",
+                "-o",
+                &out,
+                "--checkpoint",
+                &d("nod/p.ck"),
+            ]),
+            "--checkpoint is in a folder that does not exist",
+        ),
+        (
+            s(&[
+                "pack",
+                "--dim",
+                "3",
+                "--n",
+                "100",
+                "-o",
+                &dir.path().to_string_lossy(),
+            ]),
+            "-o names a folder",
+        ),
+    ];
+    for (args, expect) in cases {
+        let args: Vec<&str> = args.iter().map(String::as_str).collect();
+        let result = run("edmd", &args, None);
+        refused_with(&result, expect);
+        assert_eq!(names(dir.path()), ["in.txt"], "{args:?}");
+    }
+    // A folder that exists, with a file name in it, is fine.
+    std::fs::create_dir(d("sub")).unwrap();
+    let ok = run(
+        "edmd",
+        &[
+            "run",
+            &input,
+            "--until",
+            "1",
+            "-o",
+            &d("sub/out.txt"),
+            "--checkpoint",
+            &d("sub/ck"),
+        ],
+        None,
+    );
+    assert_eq!(
+        ok.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&ok.stderr)
+    );
+}
+
+/// Found by a new user's walk through 3D (fourteenth session): `edmd render` drew a 3D file's
+/// slice when given both `--view` and `--slice`, and a 2D file as always when given `--view`,
+/// saying nothing of the option it dropped. Both are now refused before any work.
+#[test]
+fn render_options_that_cannot_both_apply_are_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("frames/").to_string_lossy().into_owned();
+    let spheres = crate::support::example("spheres-500.txt");
+    let discs = crate::support::example("gas-300.txt");
+    let render = |file: &Path, extra: &[&str]| {
+        let mut args = vec!["render", file.to_str().unwrap(), "-o", &out, "--until", "0"];
+        args.extend_from_slice(extra);
+        run("edmd", &args, None)
+    };
+    refused_with(
+        &render(&spheres, &["--view", "30,20", "--slice", "z=3"]),
+        "render: --view and --slice are two ways to draw a 3D file: give one",
+    );
+    refused_with(
+        &render(&discs, &["--view", "30,20"]),
+        "render: --view applies to 3D files, and this one is 2D",
+    );
+    assert!(!dir.path().join("frames").exists());
+    let one = render(&spheres, &["--view", "40,10"]);
+    assert_eq!(
+        one.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&one.stderr)
+    );
+    assert!(String::from_utf8_lossy(&one.stdout).starts_with("1 frame of "));
+}
+
+/// Found by a new user's walk through 3D (fourteenth session): the limit of a million frames,
+/// samples or checkpoints was counted from t = 0, so a file at `# edmd time 1000000` could not
+/// be run to 1000010 with frames every 0.5 (20 frames). It is now counted from the run's start.
+#[test]
+fn frame_limits_count_from_the_start_of_the_run() {
+    let dir = tempfile::tempdir().unwrap();
+    let late = write(
+        &dir,
+        "late.txt",
+        &format!("# edmd time 1000000\n1\n{P10_LINE}\n"),
+    );
+    let xyz = dir.path().join("t.xyz").to_string_lossy().into_owned();
+    let go = |every: &str| {
+        run(
+            "edmd",
+            &[
+                "run",
+                &late,
+                "--until",
+                "1000010",
+                "--trajectory",
+                &xyz,
+                "--every",
+                every,
+                "-o",
+                "-",
+            ],
+            None,
+        )
+    };
+    let ok = go("0.5");
+    assert_eq!(
+        ok.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&ok.stderr)
+    );
+    let frames = std::fs::read_to_string(&xyz).unwrap();
+    assert_eq!(frames.lines().filter(|l| l.contains("Time=")).count(), 21);
+    refused_with(
+        &go("0.000001"),
+        "--every 1e-6: 1.000e7 trajectory frames from t = 1000000 to 1000010 is too many",
+    );
+}

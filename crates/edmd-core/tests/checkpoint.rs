@@ -394,3 +394,42 @@ fn the_mean_kinetic_energy_carried_is_the_discs_own() {
     close[at..at + 8].copy_from_slice(&(mean * (1.0 + 1e-9)).to_le_bytes());
     assert!(Simulation::<2>::from_checkpoint(&reframed(close)).is_ok());
 }
+
+/// Found by a new user's fuzzing of checkpoints (fourteenth session): a disc's position was
+/// read without asking whether the cell it is filed in holds it. One byte moved a sphere
+/// across the box, into other spheres; the scans of its new neighbours, which look in their
+/// own cells, never saw it, so it overlapped them for the rest of the run, and `edmd run
+/// --check` (which looks the same way) passed. A disc must now be in its cell, to within the
+/// rounding a crossing leaves.
+#[test]
+fn a_disc_filed_in_a_cell_that_does_not_hold_it_is_refused() {
+    let discs = [
+        Disc::new(Vector::new([2.0, 5.0]), Vector::new([1.0, 0.0]), 0.5),
+        Disc::new(Vector::new([8.0, 5.0]), Vector::new([-1.0, 0.0]), 0.5),
+    ];
+    let sim = Simulation::new(&discs, SimBox::walls([10.0, 10.0]), Options::default()).unwrap();
+    assert_eq!(sim.grid_dims(), [2, 2]);
+    let good = sim.to_checkpoint(b"");
+    // Disc 1's y (its record 92 bytes after disc 0's, which follows the 100 bytes before the
+    // discs and their count), in cell [1, 1] (y from 5 up to the wall).
+    let at = 24 + 108 + 92 + 8;
+    assert_eq!(good[at..at + 8], 5.0f64.to_le_bytes());
+    let with_y = |y: f64| {
+        let mut bytes = good[..good.len() - 4].to_vec();
+        bytes[at..at + 8].copy_from_slice(&y.to_le_bytes());
+        reframed(bytes)
+    };
+    // Moved down into cell [1, 0], where nothing else refuses it: moving along x, it still
+    // leaves its cell (as filed) at x = 5, after its pending collision.
+    match Simulation::<2>::from_checkpoint(&with_y(2.0)) {
+        Err(Error::Checkpoint(m)) => {
+            assert!(
+                m.contains("disc 1 is filed in cell [1, 1], which does not hold it"),
+                "{m}"
+            )
+        }
+        other => panic!("{other:?}"),
+    }
+    // Anywhere in its cell it is read (its events are another matter).
+    assert!(Simulation::<2>::from_checkpoint(&with_y(5.25)).is_ok());
+}

@@ -138,10 +138,19 @@ pub fn parse_in<const D: usize>(
     for k in 0..n {
         let (line, f) = lines.expect_fields(&format!("disc {} of {n}", k + 1))?;
         if f.len() != columns && f.len() != columns + 1 {
+            // The other dimension's line: say how a file declares it (the directive may be
+            // missing, misspelt, in capitals or after the discs).
+            let hint = match (D, f.len()) {
+                (2, 11 | 12) => {
+                    " (a sphere's line: a 3D file says '# edmd dim 3' before its discs)"
+                }
+                (3, 9 | 10) => " (a disc's line: a 2D file has no '# edmd dim 3')",
+                _ => "",
+            };
             return Err(err(
                 line,
                 format!(
-                    "expected {columns} fields ({}) or {} (with species), found {}",
+                    "expected {columns} fields ({}) or {} (with species), found {}{hint}",
                     names.join(" "),
                     columns + 1,
                     f.len()
@@ -575,6 +584,13 @@ mod tests {
                 2,
                 "file ends before disc 2 of 3",
             ),
+            // A sphere's line where the directive is misspelt (a new user's walk, fourteenth
+            // session: the message said nothing of the dimension).
+            (
+                "1\n# edmd dimm 3\n1 1 1 0 0 0 .1 1 0 0 0\n",
+                3,
+                "found 11 (a sphere's line: a 3D file says '# edmd dim 3' before its discs)",
+            ),
         ];
         for (text, line, what) in cases {
             let e = parse(text, ColumnOrder::default()).unwrap_err();
@@ -584,6 +600,21 @@ mod tests {
     }
 
     const SPHERES: &str = "2\n# edmd dim 3\n# edmd box 4 5 6\n# edmd boundary periodic walls periodic\n1 1 1 0.1 -0.2 0.3 0.5 2 10 20 30\n3 3 3 0 0 -1 0.25 1 0 0 0 7\n";
+
+    #[test]
+    fn a_disc_line_in_a_3d_file_says_what_it_looks_like() {
+        let e = parse_in::<3>(
+            "1\n# edmd dim 3\n1 1 0 0 .1 1 0 0 0\n",
+            ColumnOrder::RadiusMass,
+        )
+        .unwrap_err();
+        assert_eq!(e.line, 3);
+        assert!(
+            e.message
+                .ends_with("found 9 (a disc's line: a 2D file has no '# edmd dim 3')"),
+            "{e}"
+        );
+    }
 
     #[test]
     fn spheres_are_read_and_round_trip_bit_for_bit() {

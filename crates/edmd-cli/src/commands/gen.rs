@@ -94,6 +94,7 @@ pub enum Generated {
 
 /// Runs `edmd gen`.
 pub fn run(args: &GenArgs) -> Result<()> {
+    crate::output::check_file_destinations(&[("--output", Path::new(&args.output))])?;
     match make(args)? {
         Generated::Two(system, format) => write_system(&system, format, args),
         Generated::Three(system) => {

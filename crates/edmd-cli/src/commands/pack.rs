@@ -285,6 +285,7 @@ fn check_outputs(args: &PackArgs) -> Result<()> {
             outputs.push(("--checkpoint", c));
         }
     }
+    crate::output::check_file_destinations(&outputs)?;
     check_distinct(
         &input
             .map(|f| vec![("the input file", f)])

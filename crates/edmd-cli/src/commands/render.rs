@@ -64,9 +64,9 @@ pub struct RenderArgs {
     #[arg(long)]
     pub allow_overlaps: bool,
     /// 3D files: the viewing direction, `AZIMUTH,ELEVATION` in degrees (azimuth about the z
-    /// axis from +x, elevation above the xy plane; z is up).
-    #[arg(long, value_name = "AZ,EL", value_parser = parse_view, default_value = "30,20", allow_hyphen_values = true)]
-    pub view: (f64, f64),
+    /// axis from +x, elevation above the xy plane; z is up) [default: 30,20]
+    #[arg(long, value_name = "AZ,EL", value_parser = parse_view, allow_hyphen_values = true)]
+    pub view: Option<(f64, f64)>,
     /// 3D files: draw the slice of the box by the plane `x=X`, `y=Y` or `z=Z` instead (the
     /// circles where it cuts the spheres), seen along that axis.
     #[arg(long, value_name = "AXIS=POSITION", value_parser = parse_slice)]
@@ -254,14 +254,27 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     };
     match load_any(&args.file, &text, None, Default::default())? {
         edmd_io::AnyLoaded::Two(sys) => {
-            if args.slice.is_some() {
-                return user_error("render: --slice applies to 3D files, and this one is 2D");
+            if args.slice.is_some() || args.view.is_some() {
+                let what = if args.slice.is_some() {
+                    "--slice"
+                } else {
+                    "--view"
+                };
+                return user_error(format!(
+                    "render: {what} applies to 3D files, and this one is 2D"
+                ));
             }
             render_in(args, sys, kind, |sim, pm| {
                 draw_into(&Scene::capture(sim, colouring), pm)
             })
         }
         edmd_io::AnyLoaded::Three(sys) => {
+            if args.slice.is_some() && args.view.is_some() {
+                return user_error(
+                    "render: --view and --slice are two ways to draw a 3D file: give one",
+                );
+            }
+            let (azimuth, elevation) = args.view.unwrap_or((30.0, 20.0));
             let view = match args.slice {
                 Some((axis, position)) => {
                     let l = sys.sim_box.lengths[axis];
@@ -273,10 +286,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
                     }
                     View::Slice { axis, position }
                 }
-                None => View::Orbit {
-                    azimuth: args.view.0,
-                    elevation: args.view.1,
-                },
+                None => View::Orbit { azimuth, elevation },
             };
             render_in(args, sys, kind, |sim, pm| {
                 draw3_into(&Scene3::capture(sim, colouring), view, pm)
@@ -414,8 +424,9 @@ fn render_in<const D: usize>(
             args.output.clone()
         }
     };
+    let s = if frames == 1 { "" } else { "s" };
     crate::print_line(&format!(
-        "{frames} frames of {w}x{h} written to {} (t = 0 to {})",
+        "{frames} frame{s} of {w}x{h} written to {} (t = 0 to {})",
         out.display(),
         args.until
     ));

@@ -16,7 +16,9 @@ use serde::{Deserialize, Serialize};
 use crate::args::{ColumnsArg, FormatArg, RuleArg, RunArgs};
 use crate::commands::measurements::{Measure, Measurements};
 use crate::input::{build, load_any, read_text};
-use crate::output::{check_distinct, AtomicFile};
+use crate::output::{
+    check_distinct, check_file_destinations, check_folder_destination, AtomicFile,
+};
 use crate::user_error;
 
 /// The run summary (`--json` prints it as one object).
@@ -356,6 +358,7 @@ fn execute<const D: usize>(
     measuring: Option<Measuring<D>>,
 ) -> Result<()> {
     let start_time = sim.time();
+    check_stops(args, start_time)?;
     let start_collisions = sim.stats().disc_disc;
     // Create outputs before the run so that an unwritable path fails at once, not after it.
     let mut out_file = match args.output.as_deref() {
@@ -551,39 +554,46 @@ fn check_options(args: &RunArgs) -> Result<()> {
     if args.trajectory.as_deref() == Some(Path::new("-")) {
         return user_error("--trajectory -: trajectories are written to a file; give a file name");
     }
-    if let Some(every) = args.every {
-        if args.until / every > MAX_STOPS {
-            return user_error(format!(
-                "--every {every:?}: {:.3e} trajectory frames to t = {} is too many (at most {MAX_STOPS:.0}): --every must be >= {:e}",
-                args.until / every,
-                args.until,
-                args.until / MAX_STOPS
-            ));
-        }
-    }
-    if let Some(dt) = args.sample_every {
-        if args.until / dt > MAX_STOPS {
-            return user_error(format!(
-                "--sample-every {dt:?}: {:.3e} samples to t = {} is too many (at most {MAX_STOPS:.0}): --sample-every must be >= {:e}",
-                args.until / dt,
-                args.until,
-                args.until / MAX_STOPS
-            ));
-        }
-    }
-    if let Some(dt) = args.checkpoint_every {
-        if args.until / dt > MAX_STOPS {
-            return user_error(format!(
-                "--checkpoint-every {dt:?}: {:.3e} checkpoints to t = {} is too many (at most {MAX_STOPS:.0})",
-                args.until / dt,
-                args.until
-            ));
-        }
-    }
     if args.checkpoint.as_deref() == Some(Path::new("-")) {
         return user_error("--checkpoint -: checkpoints are written to a file; give a file name");
     }
     check_outputs(args, &args.measure)
+}
+
+/// Refuses intervals that would make more than [`MAX_STOPS`] frames, samples or checkpoints
+/// between the run's start (a file's `# edmd time` or a checkpoint's) and `--until`.
+fn check_stops(args: &RunArgs, start: f64) -> Result<()> {
+    let span = args.until - start;
+    if let Some(every) = args.every {
+        if span / every > MAX_STOPS {
+            return user_error(format!(
+                "--every {every:?}: {:.3e} trajectory frames from t = {start} to {} is too many (at most {MAX_STOPS:.0}): --every must be >= {:e}",
+                span / every,
+                args.until,
+                span / MAX_STOPS
+            ));
+        }
+    }
+    if let Some(dt) = args.sample_every {
+        if span / dt > MAX_STOPS {
+            return user_error(format!(
+                "--sample-every {dt:?}: {:.3e} samples from t = {start} to {} is too many (at most {MAX_STOPS:.0}): --sample-every must be >= {:e}",
+                span / dt,
+                args.until,
+                span / MAX_STOPS
+            ));
+        }
+    }
+    if let Some(dt) = args.checkpoint_every {
+        if span / dt > MAX_STOPS {
+            return user_error(format!(
+                "--checkpoint-every {dt:?}: {:.3e} checkpoints from t = {start} to {} is too many (at most {MAX_STOPS:.0})",
+                span / dt,
+                args.until
+            ));
+        }
+    }
+    Ok(())
 }
 
 /// Checks that no output (the final state, the trajectory, the CSV files of the measurements
@@ -616,6 +626,16 @@ fn check_outputs(args: &RunArgs, which: &[Measure]) -> Result<()> {
         } else {
             check_distinct(&[("the checkpoint", c.as_path())], &outputs)?;
         }
+    }
+    // The measurement files' folder is made by the run; the other outputs' must exist.
+    let files: Vec<(&str, &Path)> = outputs
+        .iter()
+        .copied()
+        .filter(|(what, _)| *what != "a --measure file")
+        .collect();
+    check_file_destinations(&files)?;
+    if !csvs.is_empty() {
+        check_folder_destination("--out-dir", measure_dir(args))?;
     }
     check_distinct(&[("the input file", input)], &outputs)
 }

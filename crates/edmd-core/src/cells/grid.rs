@@ -298,6 +298,33 @@ impl<const D: usize> CellGrid<D> {
         (best, axis, high)
     }
 
+    /// Whether `p` is in disc `i`'s cell, give or take `slack` on each axis: the cell as
+    /// [`Self::exit_time`] bounds it (an end cell of a walled axis reaches out to the wall).
+    /// For checking checkpoints: a disc filed in a cell it is not in is missed by the scans
+    /// of its neighbours.
+    pub(crate) fn holds(&self, i: usize, p: Vector<D>, slack: f64) -> bool {
+        let c = self.cell[i];
+        (0..D).all(|a| {
+            let walled = !self.periodic[a];
+            let last = c[a] + 1 >= self.dims[a];
+            let lo = if c[a] == 0 {
+                if walled {
+                    f64::NEG_INFINITY
+                } else {
+                    0.0
+                }
+            } else {
+                c[a] as f64 * self.width[a]
+            };
+            let hi = match (last, walled) {
+                (true, true) => f64::INFINITY,
+                (true, false) => self.lengths[a],
+                _ => (c[a] + 1) as f64 * self.width[a],
+            };
+            p[a] >= lo - slack && p[a] <= hi + slack
+        })
+    }
+
     /// Moves disc `i` one cell along `axis` towards `side`. Returns the image shift (`-1`, `0` or
     /// `+1` box lengths) that a periodic wrap applies to the disc's coordinate on that axis.
     pub fn cross(&mut self, i: usize, axis: usize, side: Side) -> i32 {

@@ -612,6 +612,21 @@ impl<const D: usize> Simulation<D> {
         if let Some(&i) = sim.discs_outside(super::OVERLAP_TOLERANCE).first() {
             return bad(format!("disc {i} is outside the box"));
         }
+        // A disc is in the cell it is filed in (at its own clock; it stays there until its
+        // event, which is no later than its cell exit, below): the scans of its neighbours
+        // would miss it in any other. Crossings leave a disc on its new cell's edge, to within
+        // the rounding of a position at an absolute time.
+        let longest = sim.sim_box.lengths.iter().copied().fold(0.0, f64::max);
+        for (i, b) in sim.body.iter().enumerate() {
+            let slack = 1e-9 * max_diameter
+                + super::OVERLAP_ROUNDING * (longest + b.vel.norm2().sqrt() * b.time.abs());
+            if !sim.grid.holds(i, b.pos, slack) {
+                return bad(format!(
+                    "disc {i} is filed in cell {:?}, which does not hold it",
+                    sim.grid.cell_of(i)
+                ));
+            }
+        }
         // A disc's event is the earliest it has, so never later than its cell exit, wall or
         // barrier contact, which follow from its own motion alone (computed here exactly as
         // when it was predicted, from its own clock); a later one would let it pass through a
