@@ -242,6 +242,41 @@ fn bad_options_and_starts_are_refused() {
     assert!(PackSizes::Polydisperse { std: 0.7 }.validate().is_err());
 }
 
+/// No packing of equal discs passes the hexagonal one (`pi / (2 sqrt 3)`, Thue), nor of equal
+/// spheres the face-centred cubic (`pi / (3 sqrt 2)`, Hales): such a target was accepted and
+/// the compression stopped on pressure short of it (a new user's walk, fourteenth session).
+/// Mixtures can pack closer, and keep any target below 1.
+#[test]
+fn targets_beyond_the_closest_packing_of_equal_particles_are_refused() {
+    let target = |phi: f64| PackOptions {
+        target_packing: Some(phi),
+        ..PackOptions::default()
+    };
+    let (discs, b2) =
+        random_start::<2>(50, PackSizes::MONODISPERSE, Boundary::Periodic, 1).unwrap();
+    let (spheres, b3) =
+        random_start::<3>(50, PackSizes::MONODISPERSE, Boundary::Periodic, 1).unwrap();
+    let refused = |r: Result<Packer<2>, Error>| match r {
+        Err(Error::Invalid(m)) => assert!(
+            m.contains("beyond the closest packing of equal discs (0.9069)"),
+            "{m}"
+        ),
+        other => panic!("{:?}", other.map(|_| ())),
+    };
+    refused(Packer::new(&discs, b2, target(0.907)));
+    assert!(Packer::new(&discs, b2, target(0.906)).is_ok());
+    match Packer::new(&spheres, b3, target(0.7405)) {
+        Err(Error::Invalid(m)) => assert!(m.contains("equal spheres (0.7405)"), "{m}"),
+        other => panic!("{:?}", other.map(|_| ())),
+    }
+    assert!(Packer::new(&spheres, b3, target(0.7404)).is_ok());
+    let mut mixed = discs.clone();
+    for d in mixed.iter_mut().step_by(2) {
+        d.radius *= 0.7;
+    }
+    assert!(Packer::new(&mixed, b2, target(0.95)).is_ok());
+}
+
 /// Too few particles for a periodic box: they grow to a third of it and the packer stops with
 /// an error instead of letting a particle meet its own image.
 #[test]

@@ -601,15 +601,19 @@ fn report<const D: usize>(
     if args.json {
         crate::print_line(&serde_json::to_string(&summary)?);
     } else {
+        // Every particle a rattler (a packing stopped early): no contacts to average.
+        let contacts = match summary.mean_contacts {
+            Some(z) => format!("{z:.3} contacts per non-rattler"),
+            None => "no contacts (every particle rattles)".to_string(),
+        };
         eprintln!(
-            "edmd pack: {} {} at packing fraction {:.6}, reduced pressure {:.3e} (stopped on {}), {} rattlers, {:.3} contacts per non-rattler (gap tolerance {:.1e}), {} collisions in {:.2} s; written to {}",
+            "edmd pack: {} {} at packing fraction {:.6}, reduced pressure {:.3e} (stopped on {}), {} rattlers, {contacts} (gap tolerance {:.1e}), {} collisions in {:.2} s; written to {}",
             summary.n,
             if D == 3 { "spheres" } else { "discs" },
             summary.packing_fraction,
             summary.reduced_pressure.unwrap_or(f64::NAN),
             summary.stop,
             summary.rattlers,
-            summary.mean_contacts.unwrap_or(f64::NAN),
             summary.gap_tolerance,
             summary.collisions,
             summary.wall_seconds,

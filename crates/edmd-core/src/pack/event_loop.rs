@@ -173,6 +173,20 @@ impl<const D: usize> Packer<D> {
                     "pack: the target packing fraction {target:?} is not above the start's {phi:?}"
                 )));
             }
+            // Equal particles pack no closer than the hexagonal or face-centred cubic
+            // crystal (Thue; Hales); mixtures can, by how much depends on their make-up.
+            let close = if D == 3 {
+                std::f64::consts::PI / (3.0 * 2f64.sqrt())
+            } else {
+                std::f64::consts::PI / (2.0 * 3f64.sqrt())
+            };
+            let equal = discs.iter().all(|d| d.radius == discs[0].radius);
+            if equal && target >= close {
+                let what = if D == 3 { "spheres" } else { "discs" };
+                return Err(Error::Invalid(format!(
+                    "pack: the target packing fraction {target:?} is beyond the closest packing of equal {what} ({close:.4}): no packing reaches it"
+                )));
+            }
         }
         packer.rescale_velocities();
         packer.rebuild_grid(true)?;
