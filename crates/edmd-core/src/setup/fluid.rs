@@ -454,7 +454,8 @@ pub(crate) fn in_cell_order<const D: usize>(discs: &mut [Disc<D>], sim_box: &Sim
 fn check(kind: &str, n: usize, packing: f64, dim: usize, recipe: &Recipe) -> Result<(), Error> {
     let bad = |what: String| Err(Error::Invalid(format!("{kind}: {what}")));
     if n < MIN_FLUID_DISCS {
-        return bad(format!("needs at least {MIN_FLUID_DISCS} discs, got {n}"));
+        let what = if dim == 3 { "spheres" } else { "discs" };
+        return bad(format!("needs at least {MIN_FLUID_DISCS} {what}, got {n}"));
     }
     let close = close_packing(dim);
     if !(packing >= MIN_PACKING && packing < close) {
