@@ -175,7 +175,7 @@ fn bad_options_are_one_line_and_exit_2() {
                 "--output",
                 "/no/such/dir/out.txt",
             ],
-            "cannot create",
+            "--output is in a folder that does not exist (/no/such/dir)",
         ),
         (vec!["bench", "--n", "-5", "--packing", "0.5"], "-5"),
         (vec!["bench", "--n", "0", "--packing", "0.5"], ">= 1"),

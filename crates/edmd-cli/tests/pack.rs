@@ -402,7 +402,10 @@ fn an_unwritable_output_is_refused_before_the_compression() {
         ],
         None,
     );
-    refused(&o, &["no-such-folder", "cannot create"]);
+    refused(
+        &o,
+        &["no-such-folder", "is in a folder that does not exist"],
+    );
     assert!(
         !ck.exists(),
         "the compression ran before the output was tried"

@@ -285,13 +285,13 @@ fn check_outputs(args: &PackArgs) -> Result<()> {
             outputs.push(("--checkpoint", c));
         }
     }
-    crate::output::check_file_destinations(&outputs)?;
     check_distinct(
         &input
             .map(|f| vec![("the input file", f)])
             .unwrap_or_default(),
         &outputs,
-    )
+    )?;
+    crate::output::check_file_destinations(&outputs)
 }
 
 /// Reads `path` whole if it is a packing checkpoint; `None` for any other file (a data file).

@@ -627,6 +627,7 @@ fn check_outputs(args: &RunArgs, which: &[Measure]) -> Result<()> {
             check_distinct(&[("the checkpoint", c.as_path())], &outputs)?;
         }
     }
+    check_distinct(&[("the input file", input)], &outputs)?;
     // The measurement files' folder is made by the run; the other outputs' must exist.
     let files: Vec<(&str, &Path)> = outputs
         .iter()
@@ -637,7 +638,7 @@ fn check_outputs(args: &RunArgs, which: &[Measure]) -> Result<()> {
     if !csvs.is_empty() {
         check_folder_destination("--out-dir", measure_dir(args))?;
     }
-    check_distinct(&[("the input file", input)], &outputs)
+    Ok(())
 }
 
 /// The folder for the measurements' CSV files.
