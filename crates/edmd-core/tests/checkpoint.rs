@@ -183,6 +183,17 @@ fn damaged_checkpoints_are_refused_never_read() {
     }
 }
 
+/// Two discs (or spheres) of radius 0.5 at x = 2 and 8, mid-box (y, z = 5) in a box of side
+/// 10, closing head on at unit speeds: they meet at t = 2.5 ((8 - 2 - 1) / 2).
+fn head_on<const D: usize>() -> [Disc<D>; 2] {
+    let at = |x: f64| Vector(std::array::from_fn(|a| if a == 0 { x } else { 5.0 }));
+    let along = |v: f64| Vector(std::array::from_fn(|a| if a == 0 { v } else { 0.0 }));
+    [
+        Disc::new(at(2.0), along(1.0), 0.5),
+        Disc::new(at(8.0), along(-1.0), 0.5),
+    ]
+}
+
 // Format 3 (thirteenth session) carries each sphere's second-earliest event, on which a stale
 // event falls back without a scan. Two spheres in a walled box of one cell per axis closing
 // head on: each has the collision at t = 2.5 ((8 - 2 - 1) / 2) first and its wall contact at
@@ -191,18 +202,7 @@ fn damaged_checkpoints_are_refused_never_read() {
 // event (code 2, a wall, then the axis and the side), 11 bytes each.
 #[test]
 fn second_events_are_carried_checked_and_optional_in_older_checkpoints() {
-    let spheres = [
-        Disc::new(
-            Vector::new([2.0, 5.0, 5.0]),
-            Vector::new([1.0, 0.0, 0.0]),
-            0.5,
-        ),
-        Disc::new(
-            Vector::new([8.0, 5.0, 5.0]),
-            Vector::new([-1.0, 0.0, 0.0]),
-            0.5,
-        ),
-    ];
+    let spheres = head_on::<3>();
     let sim = Simulation::new(&spheres, SimBox::walls([10.0; 3]), Options::default()).unwrap();
     assert_eq!(sim.grid_dims(), [1, 1, 1]);
     let good = sim.to_checkpoint(b"");
@@ -262,10 +262,7 @@ fn second_events_are_carried_checked_and_optional_in_older_checkpoints() {
 /// 5.5; a 2 by 2 grid, so neither crosses into the other's cell first).
 #[test]
 fn pending_events_that_let_a_pair_pass_through_a_contact_are_refused() {
-    let discs = [
-        Disc::new(Vector::new([2.0, 5.0]), Vector::new([1.0, 0.0]), 0.5),
-        Disc::new(Vector::new([8.0, 5.0]), Vector::new([-1.0, 0.0]), 0.5),
-    ];
+    let discs = head_on::<2>();
     let sim = Simulation::new(&discs, SimBox::walls([10.0, 10.0]), Options::default()).unwrap();
     assert_eq!(sim.grid_dims(), [2, 2]);
     let good = sim.to_checkpoint(b"");
@@ -307,18 +304,7 @@ fn pending_events_that_let_a_pair_pass_through_a_contact_are_refused() {
 /// above).
 #[test]
 fn stale_events_whose_second_events_let_a_pair_of_spheres_pass_through_are_refused() {
-    let spheres = [
-        Disc::new(
-            Vector::new([2.0, 5.0, 5.0]),
-            Vector::new([1.0, 0.0, 0.0]),
-            0.5,
-        ),
-        Disc::new(
-            Vector::new([8.0, 5.0, 5.0]),
-            Vector::new([-1.0, 0.0, 0.0]),
-            0.5,
-        ),
-    ];
+    let spheres = head_on::<3>();
     let sim = Simulation::new(&spheres, SimBox::walls([10.0; 3]), Options::default()).unwrap();
     let good = sim.to_checkpoint(b"");
     // Records of 112 bytes after the 109 bytes before the spheres and their count: position,
@@ -403,10 +389,7 @@ fn the_mean_kinetic_energy_carried_is_the_discs_own() {
 /// rounding a crossing leaves.
 #[test]
 fn a_disc_filed_in_a_cell_that_does_not_hold_it_is_refused() {
-    let discs = [
-        Disc::new(Vector::new([2.0, 5.0]), Vector::new([1.0, 0.0]), 0.5),
-        Disc::new(Vector::new([8.0, 5.0]), Vector::new([-1.0, 0.0]), 0.5),
-    ];
+    let discs = head_on::<2>();
     let sim = Simulation::new(&discs, SimBox::walls([10.0, 10.0]), Options::default()).unwrap();
     assert_eq!(sim.grid_dims(), [2, 2]);
     let good = sim.to_checkpoint(b"");
