@@ -183,6 +183,15 @@ fn damaged_checkpoints_are_refused_never_read() {
     }
 }
 
+/// Asserts that `bytes` is refused as a `D`-dimensional checkpoint with a message containing
+/// `what`.
+fn refused<const D: usize>(bytes: &[u8], what: &str) {
+    match Simulation::<D>::from_checkpoint(bytes) {
+        Err(Error::Checkpoint(m)) => assert!(m.contains(what), "{m}"),
+        other => panic!("{what}: {:?}", other.map(|_| ())),
+    }
+}
+
 /// Two discs (or spheres) of radius 0.5 at x = 2 and 8, mid-box (y, z = 5) in a box of side
 /// 10, closing head on at unit speeds: they meet at t = 2.5 ((8 - 2 - 1) / 2).
 fn head_on<const D: usize>() -> [Disc<D>; 2] {
@@ -216,10 +225,6 @@ fn second_events_are_carried_checked_and_optional_in_older_checkpoints() {
         bytes[8..12].copy_from_slice(&version.to_le_bytes());
         reframed(bytes)
     };
-    let refused = |bytes: &[u8], what: &str| match Simulation::<3>::from_checkpoint(bytes) {
-        Err(Error::Checkpoint(m)) => assert!(m.contains(what), "{m}"),
-        other => panic!("{what}: {other:?}"),
-    };
     // A wall contact that is not the one the motion gives, and one before the first event.
     for (t, what) in [
         (7.25, "not the one its motion gives"),
@@ -227,14 +232,14 @@ fn second_events_are_carried_checked_and_optional_in_older_checkpoints() {
     ] {
         let mut bad = good.clone();
         bad[at..at + 8].copy_from_slice(&f64::to_le_bytes(t));
-        refused(&at_version(bad, CHECKPOINT_VERSION), what);
+        refused::<3>(&at_version(bad, CHECKPOINT_VERSION), what);
     }
     // A collision of sphere 0 with itself as its second event.
     let mut bad = good[..at].to_vec();
     bad.extend_from_slice(&7.5f64.to_le_bytes());
     bad.extend_from_slice(&[1, 0, 0, 0, 0, 0, 0, 0, 0]);
     bad.extend_from_slice(&good[at + 11..]);
-    refused(
+    refused::<3>(
         &at_version(bad, CHECKPOINT_VERSION),
         "a collision with itself",
     );
@@ -284,13 +289,10 @@ fn pending_events_that_let_a_pair_pass_through_a_contact_are_refused() {
     };
     // Each an event with the right partner, but both at t = 2.9: by then the discs would
     // overlap by 0.8 of their contact distance.
-    match Simulation::<2>::from_checkpoint(&with_times(2.9)) {
-        Err(Error::Checkpoint(m)) => assert!(
-            m.contains("discs 0 and 1 meet at t = 2.5, but neither has an event that looks at the other before t = 2.9"),
-            "{m}"
-        ),
-        other => panic!("{other:?}"),
-    }
+    refused::<2>(
+        &with_times(2.9),
+        "discs 0 and 1 meet at t = 2.5, but neither has an event that looks at the other before t = 2.9",
+    );
     // A hair late (2e-12 of the contact distance by then) is within the overlap check's
     // tolerance (1e-9), as rounding is, and is read.
     assert!(Simulation::<2>::from_checkpoint(&with_times(2.5 + 1e-12)).is_ok());
@@ -324,13 +326,10 @@ fn stale_events_whose_second_events_let_a_pair_of_spheres_pass_through_are_refus
         }
         reframed(bytes)
     };
-    match Simulation::<3>::from_checkpoint(&stale(&[0, 1])) {
-        Err(Error::Checkpoint(m)) => assert!(
-            m.contains("discs 0 and 1 meet at t = 2.5, but neither has an event that looks at the other before t = 7.5"),
-            "{m}"
-        ),
-        other => panic!("{other:?}"),
-    }
+    refused::<3>(
+        &stale(&[0, 1]),
+        "discs 0 and 1 meet at t = 2.5, but neither has an event that looks at the other before t = 7.5",
+    );
     // One stale event is a state a run can reach (its partner changed course since, and was
     // predicted again): sphere 0 falls back on its wall, and sphere 1's live event is the
     // collision, at t = 2.5 as before.
@@ -370,10 +369,7 @@ fn the_mean_kinetic_energy_carried_is_the_discs_own() {
     ] {
         let mut bad = good[..good.len() - 4].to_vec();
         bad[at..at + 8].copy_from_slice(&forged.to_le_bytes());
-        match Simulation::<2>::from_checkpoint(&reframed(bad)) {
-            Err(Error::Checkpoint(m)) => assert!(m.contains("mean m v^2"), "{m}"),
-            other => panic!("{forged}: {other:?}"),
-        }
+        refused::<2>(&reframed(bad), "mean m v^2");
     }
     // Rounding is not refused: energy is conserved to far better than 1e-6.
     let mut close = good[..good.len() - 4].to_vec();
@@ -404,15 +400,10 @@ fn a_disc_filed_in_a_cell_that_does_not_hold_it_is_refused() {
     };
     // Moved down into cell [1, 0], where nothing else refuses it: moving along x, it still
     // leaves its cell (as filed) at x = 5, after its pending collision.
-    match Simulation::<2>::from_checkpoint(&with_y(2.0)) {
-        Err(Error::Checkpoint(m)) => {
-            assert!(
-                m.contains("disc 1 is filed in cell [1, 1], which does not hold it"),
-                "{m}"
-            )
-        }
-        other => panic!("{other:?}"),
-    }
+    refused::<2>(
+        &with_y(2.0),
+        "disc 1 is filed in cell [1, 1], which does not hold it",
+    );
     // Anywhere in its cell it is read (its events are another matter).
     assert!(Simulation::<2>::from_checkpoint(&with_y(5.25)).is_ok());
 }

@@ -632,7 +632,7 @@ fn check_outputs(args: &RunArgs, which: &[Measure]) -> Result<()> {
     let files: Vec<(&str, &Path)> = outputs
         .iter()
         .copied()
-        .filter(|(what, _)| *what != "a --measure file")
+        .filter(|(_, path)| !csvs.iter().any(|c| c == path))
         .collect();
     check_file_destinations(&files)?;
     if !csvs.is_empty() {
