@@ -299,7 +299,7 @@ impl<const D: usize> CellGrid<D> {
     }
 
     /// Whether `p` is in disc `i`'s cell, give or take `slack` on each axis: the cell as
-    /// [`Self::exit_time`] bounds it (an end cell of a walled axis reaches out to the wall).
+    /// [`Self::exit_time`] bounds it (an end cell of a walled axis reaches out to the wall; the two must stay in step).
     /// For checking checkpoints: a disc filed in a cell it is not in is missed by the scans
     /// of its neighbours.
     pub(crate) fn holds(&self, i: usize, p: Vector<D>, slack: f64) -> bool {
