@@ -13,6 +13,7 @@ pub const DIM: usize = 2;
 
 /// A vector in `D` dimensions (2 unless said otherwise).
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[repr(transparent)]
 pub struct Vector<const D: usize = 2>(pub [f64; D]);
 
 /// A vector is written as its `D` components (serde has no impls for arrays of generic

@@ -38,6 +38,10 @@ pub struct CellGrid<const D: usize = 2> {
     /// less (2D), so taking a disc out walks at most a step or two, and a back link would
     /// cost 4 bytes per disc (issue 9's memory budget, BENCHMARKS.md).
     next: Vec<u32>,
+    /// 3D only (empty in 2D): each cell's first four discs, in the order of its list, `NONE`
+    /// past its end, so that the x86-64-v3 scan reads a cell with one load and no branch
+    /// (`simulation/scan_x86.rs`); the list goes on from the fourth's `next`.
+    first: Vec<[u32; 4]>,
     cell: Vec<CellCoord<D>>,
 }
 
@@ -80,6 +84,7 @@ impl<const D: usize> CellGrid<D> {
             linear_offsets,
             head: filled(NONE, total),
             next: filled(NONE, n),
+            first: filled([NONE; 4], if D == 3 { total } else { 0 }),
             cell: filled([0; D], n),
         })
     }
@@ -221,7 +226,13 @@ impl<const D: usize> CellGrid<D> {
         if (0..D).all(|a| c[a] >= 1 && c[a] + 2 <= self.dims[a]) {
             let base = self.linear(c) as isize;
             for &off in &self.linear_offsets[..Self::NEIGHBOURS] {
-                crate::hint::prefetch(&self.head[(base + off) as usize]);
+                let k = (base + off) as usize;
+                // In 3D the scan reads the cells' first discs, not the heads.
+                if D == 3 {
+                    crate::hint::prefetch(&self.first[k]);
+                } else {
+                    crate::hint::prefetch(&self.head[k]);
+                }
             }
         }
     }
@@ -235,7 +246,12 @@ impl<const D: usize> CellGrid<D> {
         if (0..D).all(|a| c[a] >= 1 && c[a] + 2 <= self.dims[a]) {
             let base = self.linear(c) as isize;
             for &off in &self.linear_offsets[..Self::NEIGHBOURS] {
-                f(self.head[(base + off) as usize]);
+                let k = (base + off) as usize;
+                f(if D == 3 {
+                    self.first[k][0]
+                } else {
+                    self.head[k]
+                });
             }
         }
     }
@@ -246,6 +262,24 @@ impl<const D: usize> CellGrid<D> {
         self.next[i] = self.head[k];
         self.head[k] = i as u32;
         self.cell[i] = c;
+        self.refresh_first(k);
+    }
+
+    /// Copies the first four discs of cell `k`'s list into [`Self::first`] (3D).
+    #[inline]
+    fn refresh_first(&mut self, k: usize) {
+        if D == 3 {
+            let mut j = self.head[k];
+            let mut first = [NONE; 4];
+            for slot in &mut first {
+                if j == NONE {
+                    break;
+                }
+                *slot = j;
+                j = self.next[j as usize];
+            }
+            self.first[k] = first;
+        }
     }
 
     /// Takes disc `i` out of its cell.
@@ -255,17 +289,19 @@ impl<const D: usize> CellGrid<D> {
         let mut p = self.head[k];
         if p == i as u32 {
             self.head[k] = n;
-            return;
+        } else {
+            while self.next[p as usize] != i as u32 {
+                p = self.next[p as usize];
+            }
+            self.next[p as usize] = n;
         }
-        while self.next[p as usize] != i as u32 {
-            p = self.next[p as usize];
-        }
-        self.next[p as usize] = n;
+        self.refresh_first(k);
     }
 
     /// Empties every cell.
     pub fn clear(&mut self) {
         self.head.fill(NONE);
+        self.first.fill([NONE; 4]);
     }
 
     /// Time until disc `i` (at `p`, moving at `v`) leaves its cell, with the axis and side
@@ -416,23 +452,37 @@ impl<const D: usize> CellGrid<D> {
     /// [`Self::for_each_near_edges_once`] with a [`Visit`].
     #[inline(always)]
     pub fn visit_near_edges_once(&self, c: CellCoord<D>, mut f: impl Visit<D>) {
-        // A function, not a closure, so that it can be inlined by force: outlined, it runs
-        // without the x86-64-v3 loop's instruction set (measured: twice the instructions per
-        // collision once the contact-time kernel grew, BENCHMARKS.md).
-        #[inline(always)]
-        fn walk<const D: usize>(next: &[u32], mut j: u32, shift: Vector<D>, f: &mut impl Visit<D>) {
-            while j != NONE {
-                f.visit(j as usize, shift);
-                j = next[j as usize];
-            }
-        }
-        if (0..D).all(|a| c[a] >= 1 && c[a] + 2 <= self.dims[a]) {
-            // No shift, as `-0.0`: `x + -0.0` is `x` for every `x`, so the compiler drops the
-            // addition, where `x + 0.0` turns `-0.0` into `0.0` and must be kept.
+        self.for_each_cell_near(
+            c,
+            #[inline(always)]
+            |k, shift| {
+                let mut j = self.head[k];
+                while j != NONE {
+                    f.visit(j as usize, shift);
+                    j = self.next[j as usize];
+                }
+            },
+        );
+    }
+
+    /// Whether the cells around `c` are all within the grid, with no image shift.
+    #[inline(always)]
+    pub(crate) fn interior(&self, c: CellCoord<D>) -> bool {
+        (0..D).all(|a| c[a] >= 1 && c[a] + 2 <= self.dims[a])
+    }
+
+    /// Calls `f(k, shift)` for each cell `k` around `c` (itself included), in the order of
+    /// [`Self::for_each_near`], `shift` being the periodic image offset of its discs. Away
+    /// from the grid's edges the shift is `-0.0` (`x + -0.0` is `x` for every `x`, so the
+    /// compiler drops the addition, where `x + 0.0` turns `-0.0` into `0.0` and must be kept);
+    /// near them the neighbour cells are worked out once per axis (a third of the cells at
+    /// N = 4000 touch an edge; BENCHMARKS.md, seventh session).
+    #[inline(always)]
+    pub(crate) fn for_each_cell_near(&self, c: CellCoord<D>, mut f: impl FnMut(usize, Vector<D>)) {
+        if self.interior(c) {
             let base = self.linear(c) as isize;
             for &off in &self.linear_offsets[..Self::NEIGHBOURS] {
-                let j = self.head[(base + off) as usize];
-                walk(&self.next, j, Vector::new([-0.0; D]), &mut f);
+                f((base + off) as usize, Vector::new([-0.0; D]));
             }
             return;
         }
@@ -468,8 +518,14 @@ impl<const D: usize> CellGrid<D> {
                 k += term[a][m];
                 shift[a] = shift_of[a][m];
             }
-            walk(&self.next, self.head[k], shift, &mut f);
+            f(k, shift);
         }
+    }
+
+    /// The cells' first four discs ([`Self::first`]; 3D) and the lists' links.
+    #[inline(always)]
+    pub(crate) fn first_and_next(&self) -> (&[[u32; 4]], &[u32]) {
+        (&self.first, &self.next)
     }
 
     /// The grid's lists as they stand: cell heads, per-disc next and previous, and each disc's
@@ -534,6 +590,9 @@ impl<const D: usize> CellGrid<D> {
             return Err(format!("disc {i} is in no cell"));
         }
         (self.head, self.next, self.cell) = (head, next, cell);
+        for k in 0..self.first.len() {
+            self.refresh_first(k);
+        }
         Ok(())
     }
 
@@ -541,6 +600,7 @@ impl<const D: usize> CellGrid<D> {
     pub fn memory_bytes(&self) -> usize {
         self.head.capacity() * 4
             + self.next.capacity() * 4
+            + self.first.capacity() * 16
             + self.cell.capacity() * std::mem::size_of::<CellCoord<D>>()
     }
 }
@@ -615,6 +675,55 @@ mod tests {
         let mut seen = vec![];
         g.for_each_near([0, 0], |j, _| seen.push(j));
         assert_eq!(seen, vec![0]);
+    }
+
+    #[test]
+    fn each_cells_first_four_follow_its_list_in_3d() {
+        // 60 spheres in a 3 x 3 x 3 grid (cells of 5 or more), filed, crossed and taken out
+        // at random: after every change each cell's first four are its list's first four, in
+        // order, `NONE` past its end; and after the lists are put back from a checkpoint.
+        let b = SimBox::periodic([3.0; 3]);
+        let n = 60;
+        let mut g = CellGrid::<3>::new(&b, n, 1.0).unwrap();
+        let check = |g: &CellGrid<3>| {
+            for (k, first) in g.first.iter().enumerate() {
+                let mut list = vec![];
+                let mut j = g.head[k];
+                while j != NONE {
+                    list.push(j);
+                    j = g.next[j as usize];
+                }
+                list.resize(list.len().max(4), NONE);
+                assert_eq!(first[..], list[..4], "cell {k}");
+            }
+        };
+        let mut state = 5u64;
+        let mut draw = |m: usize| {
+            state = state.wrapping_mul(6364136223846793005).wrapping_add(1);
+            (state >> 33) as usize % m
+        };
+        for i in 0..n {
+            g.insert(i, [draw(3) as u32, 0, draw(2) as u32]);
+        }
+        check(&g);
+        assert!(
+            g.first.iter().any(|f| f[3] != NONE),
+            "no list longer than four"
+        );
+        for _ in 0..500 {
+            let i = draw(n);
+            let side = if draw(2) == 0 { Side::Low } else { Side::High };
+            g.cross(i, draw(3), side);
+            check(&g);
+        }
+        let (head, next, prev, cell) = g.lists();
+        let (head, next, cell) = (head.to_vec(), next.to_vec(), cell.to_vec());
+        let mut h = CellGrid::<3>::new(&b, n, 1.0).unwrap();
+        h.restore(head, next, prev, cell).unwrap();
+        check(&h);
+        assert_eq!(h.first, g.first);
+        g.clear();
+        assert!(g.first.iter().all(|f| *f == [NONE; 4]));
     }
 
     #[test]

@@ -87,7 +87,9 @@ impl ContactTerms {
 
 /// The terms of a pair's contact time, without the square root and the division: cheap
 /// enough to be worked out for every candidate, so that only the pairs that meet
-/// ([`ContactTerms::meets`]) pay for [`contact_root`].
+/// ([`ContactTerms::meets`]) pay for [`contact_root`]. The x86-64-v3 scan in 3D repeats it
+/// four lanes wide, operation for operation (`simulation/scan_x86.rs`): a change here must
+/// be made there too (a test compares the two loops' trajectories bit for bit).
 #[inline(always)]
 pub fn contact_terms<const D: usize, const FAR: bool>(
     dr: Vector<D>,

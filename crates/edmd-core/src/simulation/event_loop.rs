@@ -252,7 +252,8 @@ impl<const D: usize> Simulation<D> {
     /// work of this one (BENCHMARKS.md: 1.2 to 1.6 M collisions/s at N = 10^5). A pipeline
     /// over the next three discs in the queue, each stage needing what the one before
     /// requested an event earlier: the third disc's record and cell; the second disc's
-    /// partner's record and the list heads of its neighbourhood; the first disc in each cell
+    /// partner's record and cell, the two masses, in 3D the second disc's second event, and
+    /// the list heads of its neighbourhood (in 3D the cells' first four); the first disc in each cell
     /// around the next disc. Hints only: nothing here changes the results.
     #[inline(always)]
     pub(super) fn prefetch_upcoming(&self) {
@@ -267,6 +268,15 @@ impl<const D: usize> Simulation<D> {
         if let Some(k2) = k2 {
             if let Pending::Disc { partner, .. } = self.body[k2].pending {
                 self.prefetch_record(partner as usize);
+                // The masses, read by the collision rule, and the partner's cell, read by
+                // its prediction.
+                prefetch(&self.mass[k2]);
+                prefetch(&self.mass[partner as usize]);
+                self.grid.prefetch_cell_of(partner as usize);
+                if D == 3 {
+                    // The second event, read if this one has gone stale.
+                    prefetch(&self.second[k2]);
+                }
             }
             self.grid.prefetch_heads_around(k2);
         }

@@ -35,6 +35,8 @@ mod event_loop;
 mod options;
 mod persist;
 mod predict;
+#[cfg(target_arch = "x86_64")]
+mod scan_x86;
 mod stall;
 
 pub use check::OverlapReport;
@@ -131,6 +133,10 @@ pub struct Simulation<const D: usize = 2> {
     last_cluster: Vec<usize>,
     /// Scratch space of the predictions: the candidates that meet ([`predict::Kept`]).
     kept: predict::Kept,
+    /// Scratch space of the x86-64-v3 scan in 3D: the candidates gathered
+    /// ([`scan_x86::Batch`]).
+    #[cfg(target_arch = "x86_64")]
+    batch: scan_x86::Batch,
     /// 3D: each sphere's second-earliest event from its last prediction (`+inf` and nothing
     /// when its earliest is its own: a cell exit or a wall), for `discard_if_stale`. 24 bytes
     /// per sphere.
@@ -293,6 +299,8 @@ impl<const D: usize> Simulation<D> {
             multi: options.multi,
             last_cluster: Vec::new(),
             kept: predict::Kept::default(),
+            #[cfg(target_arch = "x86_64")]
+            batch: Default::default(),
             second: vec![(f64::INFINITY, Pending::Nothing); if D == 3 { n } else { 0 }],
             v3: false,
             still: 0,

@@ -588,6 +588,8 @@ impl<const D: usize> Simulation<D> {
             multi,
             last_cluster,
             kept: super::predict::Kept::default(),
+            #[cfg(target_arch = "x86_64")]
+            batch: Default::default(),
             second,
             v3: false,
             still,

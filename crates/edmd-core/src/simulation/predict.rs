@@ -165,22 +165,45 @@ impl<const D: usize> Simulation<D> {
         // Every candidate's contact terms are worked out, and those that meet are kept, without
         // branches (whether a pair meets is a coin toss for the branch predictor); only the
         // kept ones pay for the square root and the division (BENCHMARKS.md, tenth session).
-        let mut scan = Candidates::<D, FAR> {
-            body: &self.body,
-            t0,
-            own: bi,
-            nearest: Nearest::new(t0, best_t, &mut self.kept),
-        };
+        let mut nearest = Nearest::new(t0, best_t, &mut self.kept);
         let c = self.grid.cell_of(i);
-        if D == 3 {
-            // The scan that works out the neighbour cells near the grid's edges once per axis
-            // (a third of the cells at N = 4000 touch an edge; BENCHMARKS.md). In 2D the plain
-            // scan is kept as it was measured.
-            self.grid.visit_near_edges_once(c, &mut scan);
+        #[cfg(target_arch = "x86_64")]
+        let simd = D == 3 && !FAR && self.v3;
+        #[cfg(not(target_arch = "x86_64"))]
+        let simd = false;
+        if simd {
+            // Four candidates at a time, bit-identical to the scan below (`scan_x86.rs`).
+            #[cfg(target_arch = "x86_64")]
+            // SAFETY: `v3` is only set when the processor has AVX2 (`set_portable_loop`).
+            #[allow(unsafe_code)]
+            unsafe {
+                super::scan_x86::scan(
+                    &self.grid,
+                    c,
+                    &self.body,
+                    i,
+                    t0,
+                    &mut nearest,
+                    &mut self.batch,
+                )
+            };
         } else {
-            self.grid.visit_near(c, &mut scan);
+            let mut scan = Candidates::<D, FAR> {
+                body: &self.body,
+                t0,
+                own: bi,
+                nearest,
+            };
+            if D == 3 {
+                // The scan that works out the neighbour cells near the grid's edges once per
+                // axis (a third of the cells at N = 4000 touch an edge; BENCHMARKS.md). In 2D
+                // the plain scan is kept as it was measured.
+                self.grid.visit_near_edges_once(c, &mut scan);
+            } else {
+                self.grid.visit_near(c, &mut scan);
+            }
+            nearest = scan.nearest;
         }
-        let nearest = scan.nearest;
         let own = best;
         let (best_t, partner, second_t, second_partner) = nearest.settle();
         if partner != NO_PARTNER {
@@ -237,7 +260,7 @@ const KEPT: usize = 32;
 /// The earliest contact among a prediction's candidates, found in two passes: the candidates'
 /// contact terms as they come ([`Self::offer`]), then the roots of those that meet
 /// ([`Self::settle`]), in the order offered, so that the first found wins a tie.
-struct Nearest<'a> {
+pub(super) struct Nearest<'a> {
     t0: f64,
     best_t: f64,
     partner: u32,
@@ -267,7 +290,7 @@ impl Default for Kept {
 impl<'a> Nearest<'a> {
     /// No candidate yet, the earliest event so far at `best_t`.
     #[inline(always)]
-    fn new(t0: f64, best_t: f64, store: &'a mut Kept) -> Self {
+    pub(super) fn new(t0: f64, best_t: f64, store: &'a mut Kept) -> Self {
         Nearest {
             t0,
             best_t,
@@ -292,22 +315,28 @@ impl<'a> Nearest<'a> {
         }
     }
 
-    /// The kept candidates' contact times, the earliest taken without branches (strict `<`
-    /// keeps the first found on ties); empties the list.
+    /// The kept candidates' contact times, the earliest taken ([`Self::take`]); empties the
+    /// list.
     #[inline(always)]
     fn roots(&mut self) {
         for k in 0..self.kept.min(KEPT) {
             let t = self.t0 + contact_root(self.store.terms[k]);
-            let w = self.store.which[k];
-            let keep = ((t < self.best_t) as u32).wrapping_neg();
-            let next = ((t < self.second_t) as u32).wrapping_neg();
-            // The second: the old best if `t` beats it, else `t` if it beats the second.
-            self.second = (self.partner & keep) | (!keep & ((w & next) | (self.second & !next)));
-            self.second_t = self.second_t.min(self.best_t.max(t));
-            self.partner = (w & keep) | (self.partner & !keep);
-            self.best_t = self.best_t.min(t);
+            self.take(t, self.store.which[k]);
         }
         self.kept = 0;
+    }
+
+    /// Candidate `w`'s contact time `t`, kept if it is the earliest so far or the second,
+    /// without branches (strict `<` keeps the first found on ties).
+    #[inline(always)]
+    pub(super) fn take(&mut self, t: f64, w: u32) {
+        let keep = ((t < self.best_t) as u32).wrapping_neg();
+        let next = ((t < self.second_t) as u32).wrapping_neg();
+        // The second: the old best if `t` beats it, else `t` if it beats the second.
+        self.second = (self.partner & keep) | (!keep & ((w & next) | (self.second & !next)));
+        self.second_t = self.second_t.min(self.best_t.max(t));
+        self.partner = (w & keep) | (self.partner & !keep);
+        self.best_t = self.best_t.min(t);
     }
 
     /// The earliest time and its partner (`NO_PARTNER` if no pair beats the time given to
