@@ -1404,4 +1404,17 @@ fn frame_limits_count_from_the_start_of_the_run() {
         &go("0.000001"),
         "--every 1e-6: 1.000e7 trajectory frames from t = 1000000 to 1000010 is too many",
     );
+    // A film of the same file says when it starts: at the file's time, not at 0.
+    let frames = dir.path().join("frames/").to_string_lossy().into_owned();
+    let film = run(
+        "edmd",
+        &["render", &late, "--until", "1000001", "-o", &frames],
+        None,
+    );
+    let said = String::from_utf8_lossy(&film.stdout);
+    assert!(
+        said.contains("frames of 480x480 written to") && said.contains("(t = 1000000 to 1000001)"),
+        "{said}{}",
+        String::from_utf8_lossy(&film.stderr)
+    );
 }

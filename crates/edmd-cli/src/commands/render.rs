@@ -426,7 +426,7 @@ fn render_in<const D: usize>(
     };
     let s = if frames == 1 { "" } else { "s" };
     crate::print_line(&format!(
-        "{frames} frame{s} of {w}x{h} written to {} (t = 0 to {})",
+        "{frames} frame{s} of {w}x{h} written to {} (t = {t0} to {})",
         out.display(),
         args.until
     ));
