@@ -205,6 +205,23 @@ fn pad(batch: &mut Batch, n: usize, i: usize) -> usize {
     end
 }
 
+/// Four rows of four `f64`s as four columns: `[p0 q0 r0 s0] ... [p3 q3 r3 s3]` gives
+/// `[p0 p1 p2 p3] ... [s0 s1 s2 s3]`.
+#[target_feature(enable = "avx,avx2,fma,bmi1,bmi2,lzcnt,popcnt,movbe")]
+#[inline]
+fn columns(rows: [__m256d; 4]) -> [__m256d; 4] {
+    let lo01 = _mm256_unpacklo_pd(rows[0], rows[1]); // p0 p1 r0 r1
+    let hi01 = _mm256_unpackhi_pd(rows[0], rows[1]); // q0 q1 s0 s1
+    let lo23 = _mm256_unpacklo_pd(rows[2], rows[3]);
+    let hi23 = _mm256_unpackhi_pd(rows[2], rows[3]);
+    [
+        _mm256_permute2f128_pd::<0x20>(lo01, lo23),
+        _mm256_permute2f128_pd::<0x20>(hi01, hi23),
+        _mm256_permute2f128_pd::<0x31>(lo01, lo23),
+        _mm256_permute2f128_pd::<0x31>(hi01, hi23),
+    ]
+}
+
 /// The contact terms of the first `n` candidates of `batch` (a multiple of four) against
 /// `own`, the pairs that meet kept in `nearest` in their order.
 #[target_feature(enable = "avx,avx2,fma,bmi1,bmi2,lzcnt,popcnt,movbe")]
@@ -230,22 +247,8 @@ fn terms_x4<const SHIFT: bool>(
             // SAFETY: a record starts with these eight `f64`s (the assertions above).
             unsafe { (_mm256_loadu_pd(p), _mm256_loadu_pd(p.add(4))) }
         });
-        let lo01 = _mm256_unpacklo_pd(rows[0].0, rows[1].0); // x0 x1 z0 z1
-        let hi01 = _mm256_unpackhi_pd(rows[0].0, rows[1].0); // y0 y1 vx0 vx1
-        let lo23 = _mm256_unpacklo_pd(rows[2].0, rows[3].0);
-        let hi23 = _mm256_unpackhi_pd(rows[2].0, rows[3].0);
-        let x = _mm256_permute2f128_pd::<0x20>(lo01, lo23);
-        let z = _mm256_permute2f128_pd::<0x31>(lo01, lo23);
-        let y = _mm256_permute2f128_pd::<0x20>(hi01, hi23);
-        let vx = _mm256_permute2f128_pd::<0x31>(hi01, hi23);
-        let lo01 = _mm256_unpacklo_pd(rows[0].1, rows[1].1); // vy0 vy1 t0 t1
-        let hi01 = _mm256_unpackhi_pd(rows[0].1, rows[1].1); // vz0 vz1 r0 r1
-        let lo23 = _mm256_unpacklo_pd(rows[2].1, rows[3].1);
-        let hi23 = _mm256_unpackhi_pd(rows[2].1, rows[3].1);
-        let vy = _mm256_permute2f128_pd::<0x20>(lo01, lo23);
-        let t = _mm256_permute2f128_pd::<0x31>(lo01, lo23);
-        let vz = _mm256_permute2f128_pd::<0x20>(hi01, hi23);
-        let r = _mm256_permute2f128_pd::<0x31>(hi01, hi23);
+        let [x, y, z, vx] = columns(rows.map(|r| r.0));
+        let [vy, vz, t, r] = columns(rows.map(|r| r.1));
         let pos = [x, y, z];
         let vel = [vx, vy, vz];
         // `Body::position_at(t0)` plus the shift, less the sphere's own position.
