@@ -57,8 +57,10 @@ const _: () = {
 
 /// The candidates of a scan, gathered for [`terms_x4`]: scratch space that lives with the
 /// simulation.
+/// No alignment beyond `f64`'s is asked (the stores are unaligned ones): a `Simulation` held
+/// by Python lives where Python's allocator puts it, 16-byte aligned, and an aligned 32-byte
+/// store there faulted.
 #[derive(Clone, Debug)]
-#[repr(C, align(32))]
 pub(super) struct Batch {
     /// The candidates' contact terms, as [`crate::predict::ContactTerms`].
     b: [f64; BATCH],
@@ -282,11 +284,11 @@ fn terms_x4<const SHIFT: bool>(
             _mm256_cmp_pd::<_CMP_GE_OQ>(d, zero),
         );
         meeting |= (_mm256_movemask_pd(meets) as u64) << g;
-        // SAFETY: `g + 4 <= BATCH`, and the columns are aligned to 32 bytes.
+        // SAFETY: `g + 4 <= BATCH`.
         unsafe {
-            _mm256_store_pd(batch.b.as_mut_ptr().add(g), b);
-            _mm256_store_pd(batch.c.as_mut_ptr().add(g), c);
-            _mm256_store_pd(batch.d.as_mut_ptr().add(g), d);
+            _mm256_storeu_pd(batch.b.as_mut_ptr().add(g), b);
+            _mm256_storeu_pd(batch.c.as_mut_ptr().add(g), c);
+            _mm256_storeu_pd(batch.d.as_mut_ptr().add(g), d);
         }
     }
     // The roots of the pairs that meet, in the order found (`Nearest::roots`).
