@@ -223,7 +223,7 @@ impl<const D: usize> CellGrid<D> {
     #[inline(always)]
     pub(crate) fn prefetch_heads_around(&self, i: usize) {
         let c = self.cell[i];
-        if (0..D).all(|a| c[a] >= 1 && c[a] + 2 <= self.dims[a]) {
+        if self.interior(c) {
             let base = self.linear(c) as isize;
             for &off in &self.linear_offsets[..Self::NEIGHBOURS] {
                 let k = (base + off) as usize;
@@ -243,7 +243,7 @@ impl<const D: usize> CellGrid<D> {
     #[inline(always)]
     pub(crate) fn prefetch_first_around(&self, i: usize, mut f: impl FnMut(u32)) {
         let c = self.cell[i];
-        if (0..D).all(|a| c[a] >= 1 && c[a] + 2 <= self.dims[a]) {
+        if self.interior(c) {
             let base = self.linear(c) as isize;
             for &off in &self.linear_offsets[..Self::NEIGHBOURS] {
                 let k = (base + off) as usize;
@@ -400,7 +400,7 @@ impl<const D: usize> CellGrid<D> {
     /// [`Self::for_each_near`] with a [`Visit`].
     #[inline(always)]
     pub fn visit_near(&self, c: CellCoord<D>, mut f: impl Visit<D>) {
-        if (0..D).all(|a| c[a] >= 1 && c[a] + 2 <= self.dims[a]) {
+        if self.interior(c) {
             // Away from the edges: no wrapping, no shift, plain index arithmetic.
             let base = self.linear(c) as isize;
             for &off in &self.linear_offsets[..Self::NEIGHBOURS] {
