@@ -99,4 +99,15 @@ pub enum Error {
     /// A requested value is out of range (generators, options).
     #[error("{0}")]
     Invalid(String),
+    /// A time beyond what the clock resolves for these discs (see
+    /// [`crate::Simulation::clock_limit`]).
+    #[error(
+        "t = {time:e} is too late for the clock to place these discs exactly: from t = {limit:e} on, floating-point times are so far apart that the fastest disc moves more than the overlap tolerance (1e-9 of the smallest diameter) between two of them; run to an earlier time, or start the clock nearer 0"
+    )]
+    ClockResolution {
+        /// The time asked for.
+        time: f64,
+        /// The first time the clock no longer resolves ([`crate::Simulation::clock_limit`]).
+        limit: f64,
+    },
 }

@@ -3,6 +3,7 @@
 mod support;
 
 mod checkpoint;
+mod clock;
 mod exact_cases;
 mod fuzz_regressions;
 mod generators;

@@ -66,7 +66,7 @@ use check::validate_discs;
 /// starts on a line, [`crate::hint::records`]); 80 in 3D, where a sphere's motion takes the
 /// first 64 bytes, without padding to 128: a record straddles two lines, but the array is
 /// 5/8 the size, which at N = 4000 (320 KB) fits the L2 cache and at N = 10^5 does better
-/// in L3 (BENCHMARKS.md, eleventh session).
+/// in L3 (BENCHMARKS.md).
 #[derive(Clone, Copy, Debug)]
 #[repr(C)]
 pub(crate) struct Body<const D: usize> {
@@ -182,6 +182,21 @@ impl<const D: usize> Simulation<D> {
         Self::with_barriers(&system.discs, system.sim_box, &system.barriers, options)
     }
 
+    /// Builds and validates a simulation whose state is at time `t0` (a state file that carries
+    /// its time): the discs are where they are at `t0` and the run goes on from there. Overlaps
+    /// are judged as a run judges them at `t0` (the rounding allowance of [`Self::overlaps`]
+    /// grows with the time), so a state that a run wrote at `t0` reads back. Refused for a time
+    /// that is not finite or is negative, and from [`Self::clock_limit`] on.
+    pub fn with_barriers_at(
+        discs: &[Disc<D>],
+        sim_box: SimBox<D>,
+        barriers: &[Barrier],
+        options: Options,
+        t0: f64,
+    ) -> Result<Self, Error> {
+        Self::build(discs, sim_box, barriers, options, t0)
+    }
+
     /// Builds and validates a simulation with internal barriers at time 0.
     pub fn with_barriers(
         discs: &[Disc<D>],
@@ -189,6 +204,21 @@ impl<const D: usize> Simulation<D> {
         barriers: &[Barrier],
         options: Options,
     ) -> Result<Self, Error> {
+        Self::build(discs, sim_box, barriers, options, 0.0)
+    }
+
+    fn build(
+        discs: &[Disc<D>],
+        sim_box: SimBox<D>,
+        barriers: &[Barrier],
+        options: Options,
+        t0: f64,
+    ) -> Result<Self, Error> {
+        if !(t0.is_finite() && t0 >= 0.0) {
+            return Err(Error::Invalid(format!(
+                "start time {t0:?} is not a finite time >= 0"
+            )));
+        }
         if discs.len() >= u32::MAX as usize {
             return Err(Error::Invalid(format!("too many discs ({})", discs.len())));
         }
@@ -254,7 +284,7 @@ impl<const D: usize> Simulation<D> {
             body.push(Body {
                 pos,
                 vel: d.vel,
-                time: 0.0,
+                time: t0,
                 radius: d.radius,
                 count: 0,
                 pending: Pending::Nothing,
@@ -288,8 +318,8 @@ impl<const D: usize> Simulation<D> {
             queue: new_queue::<D>(n),
             grid,
             far_contacts,
-            event_time: 0.0,
-            now: 0.0,
+            event_time: t0,
+            now: t0,
             stats: Stats::default(),
             adjusted,
             barriers: Vec::new(),
@@ -304,10 +334,11 @@ impl<const D: usize> Simulation<D> {
             second: vec![(f64::INFINITY, Pending::Nothing); if D == 3 { n } else { 0 }],
             v3: false,
             still: 0,
-            chunk_time: 0.0,
+            chunk_time: t0,
             chunk_events: 0,
             stall: None,
         };
+        sim.check_clock(t0)?;
         sim.set_portable_loop(false);
         validate_barriers(barriers, &sim.sim_box)?;
         sim.barriers = barriers.to_vec();
@@ -375,6 +406,11 @@ impl<const D: usize> Simulation<D> {
     /// The collision rule.
     pub fn rule(&self) -> CollisionRule {
         self.rule
+    }
+
+    /// The multi-disc contact settings (`None`: every collision is binary).
+    pub fn multi(&self) -> Option<MultiContact> {
+        self.multi
     }
 
     /// Current (observation) time.
@@ -512,18 +548,25 @@ impl<const D: usize> Simulation<D> {
 
     /// Sets the clock of a simulation that has not run yet to `t0` (a state file that carries
     /// its time: the discs are where they are at `t0`, and the run goes on from there).
-    /// Refused once an event has happened, and for a time that is not finite or is negative.
+    /// Refused once an event has happened, for a time that is not finite or is negative, and
+    /// from [`Self::clock_limit`] on; a no-op when the clock is at `t0` already.
+    /// [`Self::with_barriers_at`] does the same while building, and judges the discs' overlaps
+    /// at `t0`.
     pub fn start_at(&mut self, t0: f64) -> Result<(), Error> {
         if !(t0.is_finite() && t0 >= 0.0) {
             return Err(Error::Invalid(format!(
-                "start time {t0} is not a finite time >= 0"
+                "start time {t0:?} is not a finite time >= 0"
             )));
+        }
+        if self.stats == Stats::default() && self.now == t0 && self.event_time == t0 {
+            return Ok(());
         }
         if self.stats != Stats::default() || self.now != 0.0 {
             return Err(Error::Invalid(
                 "the clock can be set only before the run starts".into(),
             ));
         }
+        self.check_clock(t0)?;
         for b in self.body.iter_mut() {
             b.time = t0;
         }
@@ -531,6 +574,38 @@ impl<const D: usize> Simulation<D> {
         self.chunk_time = t0;
         self.now = t0;
         self.schedule_all();
+        Ok(())
+    }
+
+    /// The first time at which the clock no longer places these discs exactly: from there on,
+    /// consecutive floating-point times (`ulp(t)`) are so far apart that the fastest disc moves
+    /// more than the overlap tolerance ([`OVERLAP_TOLERANCE`] times the smallest diameter)
+    /// between two of them, so that no event time can put a pair at contact to within the
+    /// tolerance. A power of two, from the speeds now (`+inf` when no disc moves). Every event
+    /// time is absolute, so this bounds a run's end, not its length: for discs of diameter 1 at
+    /// a fastest speed of 4 it is 2^21, about 2 10^6.
+    pub fn clock_limit(&self) -> f64 {
+        let v_max = self
+            .body
+            .iter()
+            .map(|b| b.vel.norm2())
+            .fold(0.0, f64::max)
+            .sqrt();
+        let sigma_min = self
+            .body
+            .iter()
+            .map(|b| 2.0 * b.radius)
+            .fold(f64::INFINITY, f64::min);
+        clock_limit(v_max, sigma_min)
+    }
+
+    /// Refuses a time at or beyond [`Self::clock_limit`] with [`Error::ClockResolution`]: for a
+    /// run's end time, before the run (the engine's loop itself cannot fail).
+    pub fn check_clock(&self, t: f64) -> Result<(), Error> {
+        let limit = self.clock_limit();
+        if t >= limit {
+            return Err(Error::ClockResolution { time: t, limit });
+        }
         Ok(())
     }
 
@@ -545,6 +620,28 @@ impl<const D: usize> Simulation<D> {
             + self.image.capacity() * size_of::<[i32; D]>()
             + self.queue.memory_bytes()
             + self.grid.memory_bytes()
+    }
+}
+
+/// [`Simulation::clock_limit`] for a fastest speed and a smallest diameter: `2^(e + 53)` with
+/// `2^e <= tol sigma / v`, so that every `t` below it has `ulp(t) <= 2^(e - 52) <= tol sigma / v`
+/// (`ulp(t) = 2^(floor(log2 t) - 52)`).
+fn clock_limit(v_max: f64, sigma_min: f64) -> f64 {
+    let step = OVERLAP_TOLERANCE * sigma_min / v_max;
+    if step.is_nan() || step.is_infinite() {
+        return f64::INFINITY;
+    }
+    // A step too small to represent: only time 0 itself is resolved.
+    let e = if step > 0.0 {
+        step.log2().floor() as i32
+    } else {
+        -1100
+    };
+    match e + 53 {
+        // 2^1023 is the largest power of two; beyond it every finite time is resolved.
+        k if k > 1023 => f64::INFINITY,
+        k if k < -1022 => f64::MIN_POSITIVE,
+        k => 2f64.powi(k),
     }
 }
 
