@@ -6,21 +6,63 @@
 //! readers name them differently: OVITO maps `velo` to Velocity and `mass` to Mass, while ASE
 //! takes `momenta` (`m v`) and `masses` (it reads `velo` and `mass` as unnamed extra arrays, and
 //! would otherwise give every disc the mass of hydrogen and zero velocity). Colours are written in `[0, 1]` as OVITO's `Color` property expects.
-//! Species are written as element symbols (`H`, `He`, ... by species number) so that ASE, which
-//! turns species into chemical symbols, reads every file.
+//! Species are written as element symbols (`H`, `He`, ... by species number: species `k` is the
+//! element of atomic number `k + 1`) so that ASE, which turns species into chemical symbols,
+//! reads every file and keeps every species apart. There are 118 elements: a system with a
+//! species from 118 on is refused before anything is written ([`check_species`]).
 
 use edmd_core::{Disc, SimBox};
 
-/// Chemical symbols used for species 0, 1, 2, ...
-const SYMBOLS: [&str; 10] = ["H", "He", "Li", "Be", "B", "C", "N", "O", "F", "Ne"];
+/// Chemical symbols used for species 0, 1, 2, ...: the elements in order of atomic number.
+const SYMBOLS: [&str; 118] = [
+    "H", "He", "Li", "Be", "B", "C", "N", "O", "F", "Ne", "Na", "Mg", "Al", "Si", "P", "S", "Cl",
+    "Ar", "K", "Ca", "Sc", "Ti", "V", "Cr", "Mn", "Fe", "Co", "Ni", "Cu", "Zn", "Ga", "Ge", "As",
+    "Se", "Br", "Kr", "Rb", "Sr", "Y", "Zr", "Nb", "Mo", "Tc", "Ru", "Rh", "Pd", "Ag", "Cd", "In",
+    "Sn", "Sb", "Te", "I", "Xe", "Cs", "Ba", "La", "Ce", "Pr", "Nd", "Pm", "Sm", "Eu", "Gd", "Tb",
+    "Dy", "Ho", "Er", "Tm", "Yb", "Lu", "Hf", "Ta", "W", "Re", "Os", "Ir", "Pt", "Au", "Hg", "Tl",
+    "Pb", "Bi", "Po", "At", "Rn", "Fr", "Ra", "Ac", "Th", "Pa", "U", "Np", "Pu", "Am", "Cm", "Bk",
+    "Cf", "Es", "Fm", "Md", "No", "Lr", "Rf", "Db", "Sg", "Bh", "Hs", "Mt", "Ds", "Rg", "Cn", "Nh",
+    "Fl", "Mc", "Lv", "Ts", "Og",
+];
 
-/// Writes one frame.
+/// The number of species extended XYZ can tell apart: one per chemical element.
+pub const MAX_SPECIES: usize = SYMBOLS.len();
+
+/// Refuses discs with a species that has no element symbol (from [`MAX_SPECIES`] on): ASE
+/// reads species as chemical symbols, so two species written with one symbol would become one.
+/// The message names the first such disc (0-based) and its species.
+pub fn check_species<const D: usize>(discs: &[Disc<D>]) -> Result<(), String> {
+    match discs
+        .iter()
+        .position(|d| d.species as usize >= MAX_SPECIES)
+    {
+        Some(i) => Err(format!(
+            "disc {i} has species {}, and extended XYZ names species by chemical element (species 0 to {} are H to Og): a trajectory cannot keep it apart; use a .gsd trajectory",
+            discs[i].species,
+            MAX_SPECIES - 1
+        )),
+        None => Ok(()),
+    }
+}
+
+fn symbol(species: u16) -> std::io::Result<&'static str> {
+    SYMBOLS.get(species as usize).copied().ok_or_else(|| {
+        std::io::Error::new(
+            std::io::ErrorKind::InvalidInput,
+            format!("species {species} has no chemical symbol in extended XYZ"),
+        )
+    })
+}
+
+/// Writes one frame. A species without an element symbol ([`check_species`]) is an
+/// `InvalidInput` error, before anything is written.
 pub fn write_frame<const D: usize>(
     out: &mut impl std::io::Write,
     discs: &[Disc<D>],
     sim_box: &SimBox<D>,
     time: f64,
 ) -> std::io::Result<()> {
+    check_species(discs).map_err(|e| std::io::Error::new(std::io::ErrorKind::InvalidInput, e))?;
     if D == 3 {
         return write_frame_3d(out, discs, sim_box, time);
     }
@@ -35,7 +77,7 @@ pub fn write_frame<const D: usize>(
         l[0], l[1], time, pbc[0], pbc[1]
     )?;
     for d in discs {
-        let s = SYMBOLS[d.species as usize % SYMBOLS.len()];
+        let s = symbol(d.species)?;
         writeln!(
             out,
             "{s} {:?} {:?} 0.0 {:?} {:?} 0.0 {:?} {:?} 0.0 {:?} {:?} {:?} {:.4} {:.4} {:.4}",
@@ -74,7 +116,7 @@ fn write_frame_3d<const D: usize>(
         l[0], l[1], l[2], time, pbc[0], pbc[1], pbc[2]
     )?;
     for d in discs {
-        let s = SYMBOLS[d.species as usize % SYMBOLS.len()];
+        let s = symbol(d.species)?;
         let (p, v, m) = (d.pos, d.vel, d.mass);
         writeln!(
             out,
@@ -103,6 +145,28 @@ fn write_frame_3d<const D: usize>(
 mod tests {
     use super::*;
     use edmd_core::Vector;
+
+    // Species 0 and 10 were both written as H (the symbols went round after ten), so ASE read
+    // two species as one.
+    #[test]
+    fn every_species_has_its_own_symbol_and_too_many_are_refused() {
+        let mut seen = std::collections::HashSet::new();
+        for k in 0..MAX_SPECIES as u16 {
+            assert!(
+                seen.insert(symbol(k).unwrap()),
+                "species {k} repeats a symbol"
+            );
+        }
+        assert_eq!(symbol(0).unwrap(), "H");
+        assert_eq!(symbol(10).unwrap(), "Na");
+        assert_eq!(symbol(117).unwrap(), "Og");
+        let mut d = Disc::new(Vector::new([0.5, 0.25]), Vector::new([1.0, 0.0]), 0.1);
+        d.species = 118;
+        let mut out = Vec::new();
+        let e = write_frame(&mut out, &[d], &SimBox::walls([1.0, 1.0]), 0.0).unwrap_err();
+        assert!(e.to_string().contains("disc 0 has species 118"), "{e}");
+        assert!(out.is_empty(), "nothing is written before the refusal");
+    }
 
     #[test]
     fn frame_layout() {
