@@ -41,8 +41,10 @@ pub struct Report {
     pub draw: f64,
     /// Wall time spent converting and uploading the picture, in seconds.
     pub upload: f64,
-    /// Number of discs.
+    /// Number of discs or spheres.
     pub discs: usize,
+    /// What they are: "discs" or "spheres".
+    pub noun: &'static str,
     /// A failure to report on exit (for example, a screenshot that could not be written).
     pub error: Option<String>,
 }
@@ -60,10 +62,11 @@ impl Report {
         let per = |s: f64| 1e3 * s / self.pictures.max(1) as f64;
         match self.fps() {
             Some(fps) => format!(
-                "edmd-view: {fps:.1} frames per second ({} frames in {:.1} s, {} discs; per frame: simulate {:.1} ms, draw {:.1} ms (drawing thread), upload {:.1} ms; {} interface updates)",
+                "edmd-view: {fps:.1} frames per second ({} frames in {:.1} s, {} {}; per frame: simulate {:.1} ms, draw {:.1} ms (drawing thread), upload {:.1} ms; {} interface updates)",
                 self.pictures,
                 self.last.unwrap().duration_since(self.first.unwrap()).as_secs_f64(),
                 self.discs,
+                self.noun,
                 per(self.simulate),
                 per(self.draw),
                 per(self.upload),
@@ -131,6 +134,7 @@ impl<const D: usize> ViewerApp<D> {
         let wake = ctx.clone();
         let painter = Painter::new(move || wake.request_repaint());
         report.borrow_mut().discs = model.sim.len();
+        report.borrow_mut().noun = particles::<D>();
         let quit_after = settings
             .quit_after
             .or(settings
@@ -243,11 +247,7 @@ impl<const D: usize> ViewerApp<D> {
 
     fn step_event(&mut self) {
         self.playing = false;
-        let (what_, one) = if D == 3 {
-            ("spheres", "sphere")
-        } else {
-            ("discs", "disc")
-        };
+        let (what_, one) = (particles::<D>(), particle::<D>());
         self.last_event = match self.model.step_event() {
             None => "nothing will ever happen".to_string(),
             Some(e) => {
@@ -255,7 +255,7 @@ impl<const D: usize> ViewerApp<D> {
                     EventKind::DiscDisc { i, j } => format!("{what_} {i} and {j} collide"),
                     EventKind::Wall { i, .. } => format!("{one} {i} hits a wall"),
                     EventKind::Barrier { i, barrier, .. } => {
-                        format!("disc {i} meets barrier {barrier}")
+                        format!("{one} {i} meets barrier {barrier}")
                     }
                     EventKind::CellCrossing { i, .. } => format!("{one} {i} changes cell"),
                 };
@@ -369,7 +369,7 @@ impl<const D: usize> ViewerApp<D> {
             }
             if ui
                 .button("Reverse velocities")
-                .on_hover_text("V: the discs retrace their paths")
+                .on_hover_text(format!("V: the {} retrace their paths", particles::<D>()))
                 .clicked()
             {
                 self.model.reverse();
@@ -423,10 +423,17 @@ impl<const D: usize> ViewerApp<D> {
                     ui.monospace(value);
                     ui.end_row();
                 };
-                row("discs", self.model.sim.len().to_string());
+                row(particles::<D>(), self.model.sim.len().to_string());
                 row("time", format!("{:.4}", self.model.sim.time()));
                 row("events", events.to_string());
-                row("disc collisions", stats.disc_disc.to_string());
+                row(
+                    if D == 3 {
+                        "sphere collisions"
+                    } else {
+                        "disc collisions"
+                    },
+                    stats.disc_disc.to_string(),
+                );
                 row("wall collisions", stats.wall.to_string());
                 row(
                     "collisions / s",
@@ -631,4 +638,22 @@ fn fixed_plot(id: &str, h: f32) -> Plot<'static> {
         .allow_zoom(false)
         .allow_scroll(false)
         .allow_boxed_zoom(false)
+}
+
+/// What the particles are called in dimension `D`: "discs" or "spheres".
+fn particles<const D: usize>() -> &'static str {
+    if D == 3 {
+        "spheres"
+    } else {
+        "discs"
+    }
+}
+
+/// One of [`particles`]: "disc" or "sphere".
+fn particle<const D: usize>() -> &'static str {
+    if D == 3 {
+        "sphere"
+    } else {
+        "disc"
+    }
 }

@@ -212,6 +212,9 @@ fn spheres_under_xvfb() {
         "status {:?}; stderr: {stderr}",
         out.status
     );
+    // The summary on exit called spheres discs.
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(stdout.contains(", 500 spheres;"), "stdout: {stdout}");
     let (_, _, pixels) = read_png(&shot);
     let outside = pixels.iter().filter(|p| **p == edmd_draw::OUTSIDE).count();
     assert!(outside > 20_000, "outside the box: {outside} pixels");
