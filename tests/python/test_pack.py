@@ -223,13 +223,13 @@ def test_the_gil_is_released_during_the_compression():
 
 
 def test_ctrl_c_interrupts_a_long_compression(ctrl_c):
-    # Ctrl-C is noticed at a velocity rescaling (every 10 collisions per particle): a few
-    # tenths of a second apart here; the whole compression takes some seconds more.
+    # Ctrl-C was noticed only at a velocity rescaling (every 10 collisions per particle),
+    # minutes apart for 10^6 particles; it is now looked for every few milliseconds.
     timer = threading.Timer(1.0, lambda: os.kill(os.getpid(), signal.SIGINT))
     started = time.monotonic()
     timer.start()
     try:
-        edmd.pack(n=4000, dim=3, seed=1)
+        edmd.pack(n=20000, dim=3, seed=1)
     except KeyboardInterrupt:
         pass
     else:
@@ -261,10 +261,15 @@ def test_a_checkpointed_compression_resumes_bit_for_bit(tmp_path, edmd_cli):
     mine = tmp_path / "py.txt"
     whole.write(mine)
     assert mine.read_bytes() == out.read_bytes()
-    # What the checkpoint carries cannot be given again; other files are not checkpoints.
-    for kwargs in (dict(pressure=1e7), dict(seed=2), dict(n=150), dict(growth_rate=0.01)):
+    # What the checkpoint carries may be given again with its own value (the same call run
+    # again after a crash), not with another; other files are not checkpoints.
+    again, s_again = edmd.pack(resume=ck, seed=5, growth_rate=0.02, **FAST)
+    assert same_summary(s_again, s_whole)
+    for kwargs in (dict(pressure=1e7), dict(seed=2), dict(n=151), dict(growth_rate=0.01)):
         with pytest.raises(ValueError, match="carried by the checkpoint"):
             edmd.pack(resume=ck, **kwargs)
+    with pytest.raises(ValueError, match="growth_rate 0.01 differs from the value carried by the checkpoint .*, 0.02"):
+        edmd.pack(resume=ck, growth_rate=0.01)
     with pytest.raises(ValueError, match="not an edmd packing checkpoint"):
         edmd.pack(resume=mine)
     with pytest.raises(ValueError, match="start or a checkpoint"):

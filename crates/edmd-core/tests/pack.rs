@@ -244,7 +244,7 @@ fn bad_options_and_starts_are_refused() {
 
 /// No packing of equal discs passes the hexagonal one (`pi / (2 sqrt 3)`, Thue), nor of equal
 /// spheres the face-centred cubic (`pi / (3 sqrt 2)`, Hales): such a target was accepted and
-/// the compression stopped on pressure short of it (a new user's walk, fourteenth session).
+/// the compression stopped on pressure short of it (found by a new user's walk).
 /// Mixtures can pack closer, and keep any target below 1.
 #[test]
 fn targets_beyond_the_closest_packing_of_equal_particles_are_refused() {
@@ -310,9 +310,16 @@ fn polydisperse_spheres_keep_their_size_ratios() {
         ..PackOptions::default()
     };
     let p = pack::<3>(200, sizes, Boundary::Periodic, options, 6);
-    let k = p.discs[0].radius / start[0].radius;
-    for (a, b) in p.discs.iter().zip(&start) {
-        assert!((a.radius / b.radius / k - 1.0).abs() < 1e-12);
+    // The packing is in cell order, the start in random order: compared sorted by size.
+    let sorted = |discs: &[Disc<3>]| {
+        let mut r: Vec<f64> = discs.iter().map(|d| d.radius).collect();
+        r.sort_by(f64::total_cmp);
+        r
+    };
+    let (a, b) = (sorted(&p.discs), sorted(&start));
+    let k = a[0] / b[0];
+    for (a, b) in a.iter().zip(&b) {
+        assert!((a / b / k - 1.0).abs() < 1e-12);
     }
     assert!(
         (0.6..0.68).contains(&p.packing_fraction),
@@ -320,4 +327,103 @@ fn polydisperse_spheres_keep_their_size_ratios() {
         p.packing_fraction
     );
     assert_exact(&p);
+}
+
+// A compression looked for Ctrl-C only at its velocity rescalings, every
+// `collisions_per_rescale` collisions per particle: minutes apart for 10^6 particles, or with
+// many collisions asked for between rescalings. `run_watched` asks its `stop` every 65 536
+// events: here, with 10^6 collisions per particle between rescalings, a request at the third
+// look stops the run within three chunks of events, long before the first rescaling.
+#[test]
+fn a_stop_request_between_rescalings_is_answered_within_a_chunk_of_events() {
+    let (discs, sim_box) = random_start::<2>(200, BIDISPERSE, Boundary::Periodic, 3).unwrap();
+    let options = PackOptions {
+        collisions_per_rescale: 1e6,
+        ..PackOptions::default()
+    };
+    let mut looks = 0;
+    let mut rescalings = 0;
+    let p = Packer::new(&discs, sim_box, options)
+        .unwrap()
+        .run_watched(
+            |_| {
+                rescalings += 1;
+                true
+            },
+            || {
+                looks += 1;
+                looks == 3
+            },
+        )
+        .unwrap();
+    assert_eq!(p.stop, Stop::Interrupted);
+    assert_eq!(rescalings, 0);
+    assert!(p.events <= 2 * 65_536 + 1, "{} events", p.events);
+}
+
+// Looking for a stop request changes nothing: the packing of a run asked "stop?" every chunk
+// (and told no) is the one of `run`, bit for bit, and so are its events.
+#[test]
+fn looking_for_a_stop_request_leaves_the_packing_bit_for_bit() {
+    let options = PackOptions {
+        max_pressure: 1e6,
+        ..PackOptions::default()
+    };
+    let (discs, sim_box) = random_start::<3>(300, BIDISPERSE, Boundary::Walls, 5).unwrap();
+    let plain = Packer::new(&discs, sim_box, options)
+        .unwrap()
+        .run(|_| true)
+        .unwrap();
+    let mut looks = 0u64;
+    let watched = Packer::new(&discs, sim_box, options)
+        .unwrap()
+        .run_watched(
+            |_| true,
+            || {
+                looks += 1;
+                false
+            },
+        )
+        .unwrap();
+    assert!(looks > 1, "{looks} looks");
+    assert_eq!(watched, plain);
+}
+
+// A packing fraction that stopped changing was reported as converged (a jammed packing)
+// whatever the pressure: growth too slow for double precision "converged" in the dilute fluid
+// and the start was written as a packing. Far from jamming it is now an error naming the
+// growth rate; and a growth rate too slow to change the packing fraction even over the
+// longest interval is refused by `Packer::new`. (Here the relative change that counts as
+// converged is raised to 10^-3, so that an ordinary growth rate meets both.)
+#[test]
+fn a_packing_fraction_that_stops_changing_far_from_jamming_is_an_error() {
+    let (discs, sim_box) = random_start::<2>(100, BIDISPERSE, Boundary::Periodic, 1).unwrap();
+    let options = |growth_rate| PackOptions {
+        growth_rate,
+        min_relative_change: 1e-3,
+        ..PackOptions::default()
+    };
+    let e = Packer::new(&discs, sim_box, options(1e-7))
+        .map(|_| ())
+        .unwrap_err();
+    assert!(e.to_string().contains("too slow"), "{e}");
+    let e = Packer::new(&discs, sim_box, options(1e-5))
+        .unwrap()
+        .run(|_| true)
+        .unwrap_err();
+    assert!(e.to_string().contains("far from jamming"), "{e}");
+    // Near jamming the same stop is a packing.
+    let p = Packer::new(
+        &discs,
+        sim_box,
+        PackOptions {
+            min_relative_change: 1e-9,
+            ..PackOptions::default()
+        },
+    )
+    .unwrap()
+    .run(|_| true)
+    .unwrap();
+    assert_eq!(p.stop, Stop::Converged);
+    assert!(p.reduced_pressure.unwrap() > 2e5);
 }

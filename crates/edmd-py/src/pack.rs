@@ -18,7 +18,8 @@ use pyo3::types::{PyDict, PyTuple};
 use crate::state::State;
 use crate::{parse_boundary, value_error, Inner, PySimulation};
 
-/// How often the compression looks for Ctrl-C (it can only at a velocity rescaling).
+/// How often the compression looks for Ctrl-C (it is asked every 65 536 events, a few
+/// milliseconds, and takes the GIL to look only this often).
 const SIGNAL_EVERY: Duration = Duration::from_millis(50);
 
 /// The command's message with the Python argument names instead of its flags.
@@ -55,9 +56,9 @@ fn simulation<const D: usize>(packing: &edmd_core::pack::Packing<D>) -> PyResult
 ///
 /// The diameters grow at a common rate while the particles collide, with velocities rescaled
 /// to an rms speed of 1 every 10 collisions per particle. The compression runs with the GIL
-/// released; Ctrl-C stops it with `KeyboardInterrupt`, noticed at the next velocity rescaling
-/// (a fraction of a second apart at the default growth rate; with slow growth, at low packing
-/// fractions, seconds for many particles).
+/// released; Ctrl-C stops it with `KeyboardInterrupt` within a fraction of a second, whatever
+/// the number of particles (with `checkpoint`, the last velocity rescaling's state is written
+/// there first, so that `resume` continues it bit for bit).
 ///
 /// A long compression can be checkpointed and continued, bit for bit, as with
 /// `edmd pack --checkpoint`: `checkpoint=PATH` writes its whole state there (replaced
@@ -87,7 +88,7 @@ fn simulation<const D: usize>(packing: &edmd_core::pack::Packing<D>) -> PyResult
 ///         velocity rescaling after the interval (0: at every rescaling); 600 when None.
 ///     resume: a packing checkpoint file to continue, instead of a start. Every option that
 ///         decides the compression (n, dim, the sizes, boundary, growth_rate, pressure,
-///         packing, seed) comes from it and must be left out.
+///         packing, seed) comes from it: given again, it must have the value it carries.
 ///
 /// Returns:
 ///     (sim, summary): the packing as a Simulation at time 0 ready to run (elastic
@@ -230,24 +231,29 @@ pub fn pack<'py>(
         }),
         None => given,
     };
-    // Ctrl-C: the compression looks at Python's signals now and then (at a rescaling, with
-    // the GIL taken for a moment) and stops when one raised.
+    // Ctrl-C: the compression asks every few milliseconds whether to stop; every
+    // SIGNAL_EVERY it looks at Python's signals (with the GIL taken for a moment) and stops
+    // when one raised.
     let mut interrupt: Option<PyErr> = None;
     let packed = py.detach(|| {
         let mut last = Instant::now();
-        cli_pack(&args, given, |_: &Status| {
-            if last.elapsed() < SIGNAL_EVERY {
+        let stop = || {
+            if interrupt.is_some() {
                 return true;
+            }
+            if last.elapsed() < SIGNAL_EVERY {
+                return false;
             }
             last = Instant::now();
             match Python::attach(|py| py.check_signals()) {
-                Ok(()) => true,
+                Ok(()) => false,
                 Err(e) => {
                     interrupt = Some(e);
-                    false
+                    true
                 }
             }
-        })
+        };
+        cli_pack(&args, given, stop, |_: &Status| true)
     });
     if let Some(e) = interrupt {
         return Err(e);

@@ -23,12 +23,19 @@ use serde::{Deserialize, Serialize};
 use crate::args::BoundaryArg;
 use crate::commands::experiment::common::MAX_N;
 use crate::commands::run::{read_file_starting, read_magic, write_checkpoint};
-use crate::input::{load_any, read_text, refusal_at_line};
+use crate::input::{read_any, refusal_at_line};
 use crate::output::{check_distinct, AtomicFile};
 use crate::user_error;
 
 /// Default wall-clock seconds between two checkpoints.
 pub const CHECKPOINT_EVERY: f64 = 600.0;
+
+/// With `--checkpoint`, the bytes of a rescaling's checkpoint are kept in memory at least this
+/// often (wall-clock seconds), so that a stop between two rescalings, which cannot be
+/// checkpointed where it falls, writes the last one kept: at most this much, plus one
+/// interval between rescalings, is done again when the run is continued. Taking them costs a
+/// copy of the state, a small part of a rescaling, so they are not taken at every one.
+const KEEP_EVERY: Duration = Duration::from_millis(250);
 
 /// Options of `edmd pack`.
 #[derive(Debug, Args)]
@@ -135,12 +142,49 @@ pub enum Start {
     Checkpoint(Vec<u8>),
 }
 
-/// What a packing checkpoint keeps besides the packer: the seed (for the summary) and the
-/// wall-clock seconds spent so far (postcard-encoded).
+/// What a packing checkpoint keeps besides the packer: the seed (for the summary), the
+/// wall-clock seconds spent so far and, for a random start, its sizes (postcard-encoded), so
+/// that options given again on continuing can be compared with the ones it carries.
 #[derive(Serialize, Deserialize)]
 struct CheckpointExtra {
     seed: u64,
     wall_seconds: f64,
+    /// The random start's sizes; `None` for a start given as a file or a simulation.
+    sizes: Option<CarriedSizes>,
+}
+
+/// The extra bytes of checkpoints written before they carried the sizes.
+#[derive(Deserialize)]
+struct CheckpointExtraV1 {
+    seed: u64,
+    wall_seconds: f64,
+}
+
+/// A random start's sizes, as a checkpoint carries them.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+enum CarriedSizes {
+    Binary {
+        size_ratio: f64,
+        fraction_large: f64,
+    },
+    Polydisperse {
+        std: f64,
+    },
+}
+
+/// What the checkpoint carries, read back: the seed, the seconds so far, and the random
+/// start's sizes if known (`None` inside: a start that was not random; `None` outside: a
+/// checkpoint written before the sizes were kept).
+fn read_extra(name: &str, extra: &[u8]) -> Result<(u64, f64, Option<Option<CarriedSizes>>)> {
+    if let Ok(e) = postcard::from_bytes::<CheckpointExtra>(extra) {
+        return Ok((e.seed, e.wall_seconds, Some(e.sizes)));
+    }
+    match postcard::from_bytes::<CheckpointExtraV1>(extra) {
+        Ok(e) => Ok((e.seed, e.wall_seconds, None)),
+        Err(_) => user_error(format!(
+            "{name}: checkpoint: the command's settings are missing or unreadable"
+        )),
+    }
 }
 
 /// A start given rather than drawn at random (a file for the command, a simulation for the
@@ -186,15 +230,16 @@ pub fn run(args: &PackArgs) -> Result<()> {
     }
     // The options are checked before the file is read.
     options(args)?;
+    crate::commands::experiment::common::install_ctrlc();
+    let setup = SetupWatch::start();
     let what = args.file.as_ref().map(|f| format!("the file {f}"));
     let given = match &args.file {
         Some(path) => match read_pack_checkpoint(Path::new(path))? {
             Some(bytes) => Some((path.as_str(), Start::Checkpoint(bytes), false, Vec::new())),
             None => {
                 refuse_random_options(args, what.as_deref().unwrap_or_default())?;
-                let text = read_text(path)?;
                 let (start, barriers, lines) =
-                    match load_any(path, &text, None, ColumnOrder::RadiusMass)? {
+                    match read_any(path, None, ColumnOrder::RadiusMass, None)? {
                         edmd_io::AnyLoaded::Two(sys) => (
                             Start::Two(sys.discs, sys.sim_box),
                             !sys.barriers.is_empty(),
@@ -218,15 +263,15 @@ pub fn run(args: &PackArgs) -> Result<()> {
         barriers,
         lines,
     });
-    // Created before the compression so that an unwritable path fails at once, not after it
-    // (the file appears only when the packing is written whole).
-    let out_file = match args.output.as_str() {
-        "-" => None,
-        p => Some(AtomicFile::create(Path::new(p))?),
-    };
-    crate::commands::experiment::common::install_ctrlc();
+    // The output's place was checked with the others (`check_outputs`), without creating
+    // anything: its temporary file is made only when the packing is written, so that a run
+    // killed outright (SIGKILL, which no handler sees) leaves nothing behind.
     let bar = progress_bar();
-    let packed = pack(args, given, |s: &Status| {
+    let stop = || {
+        setup.end();
+        crate::commands::experiment::common::stop_requested()
+    };
+    let packed = pack(args, given, stop, |s: &Status| {
         if let Some(pb) = &bar {
             pb.set_message(format!(
                 "packing fraction {:.6}  reduced pressure {:.3e}  {} collisions",
@@ -245,19 +290,59 @@ pub fn run(args: &PackArgs) -> Result<()> {
     let s = packed.summary();
     if s.stop == Stop::Interrupted.name() {
         let phi = s.packing_fraction;
-        match &args.checkpoint {
-            Some(ck) => anyhow::bail!(
-                "interrupted at packing fraction {phi:.6}: the compression so far is in the checkpoint {} (edmd pack {} -o {} continues it); nothing else written",
+        return match &args.checkpoint {
+            Some(ck) => crate::interrupted(format!(
+                "interrupted at packing fraction {phi:.6}: the compression up to its last velocity rescaling is in the checkpoint {} (edmd pack {} -o {} continues it); nothing else written",
                 ck.display(),
                 ck.display(),
                 args.output
-            ),
-            None => anyhow::bail!("interrupted at packing fraction {phi:.6}: nothing written"),
-        }
+            )),
+            None => crate::interrupted(format!(
+                "interrupted at packing fraction {phi:.6}: nothing written"
+            )),
+        };
     }
     match packed {
-        Packed::Two(packing, summary) => report(args, out_file, &packing, summary),
-        Packed::Three(packing, summary) => report(args, out_file, &packing, summary),
+        Packed::Two(packing, summary) => report(args, &packing, summary),
+        Packed::Three(packing, summary) => report(args, &packing, summary),
+    }
+}
+
+/// Watches for Ctrl-C while the compression is being set up (the file read, the random start
+/// placed, the packer's checks and first predictions: seconds for 10^6 particles, more for
+/// 10^7), when the packer cannot yet look and there is nothing to keep: a stop request then
+/// ends the program at once, with exit status 130. [`SetupWatch::end`], called when the
+/// compression first looks itself, ends the watch; the lock makes the two exclusive, so the
+/// program is never ended while a checkpoint is being written.
+struct SetupWatch {
+    done: std::sync::Arc<std::sync::Mutex<bool>>,
+}
+
+impl SetupWatch {
+    fn start() -> Self {
+        let done = std::sync::Arc::new(std::sync::Mutex::new(false));
+        let watched = done.clone();
+        std::thread::spawn(move || loop {
+            {
+                let Ok(done) = watched.lock() else { return };
+                if *done {
+                    return;
+                }
+                if crate::commands::experiment::common::stop_requested() {
+                    crate::output::remove_temporaries();
+                    eprintln!("edmd: interrupted before the compression started: nothing written");
+                    std::process::exit(crate::INTERRUPTED_STATUS.into());
+                }
+            }
+            std::thread::sleep(Duration::from_millis(20));
+        });
+        SetupWatch { done }
+    }
+
+    fn end(&self) {
+        if let Ok(mut done) = self.done.lock() {
+            *done = true;
+        }
     }
 }
 
@@ -307,11 +392,14 @@ pub fn read_pack_checkpoint(path: &Path) -> Result<Option<Vec<u8>>> {
 }
 
 /// Checks the options, makes the start (the random one of `args`, or `given`) and compresses
-/// it, calling `progress` at every rescaling (`false` stops the compression). What `edmd pack`
-/// writes and what `edmd.pack` returns in Python, so the two agree bit for bit.
+/// it, calling `progress` at every rescaling (`false` stops the compression) and `stop` every
+/// few milliseconds (`true` stops it: Ctrl-C). What `edmd pack` writes and what `edmd.pack`
+/// returns in Python, so the two agree bit for bit. A stopped compression comes back with the
+/// summary's `stop` "interrupted" (and, with `--checkpoint`, its last rescaling written there).
 pub fn pack(
     args: &PackArgs,
     given: Option<Given<'_>>,
+    stop: impl FnMut() -> bool,
     progress: impl FnMut(&Status) -> bool,
 ) -> Result<Packed> {
     let options = options(args)?;
@@ -320,7 +408,7 @@ pub fn pack(
             name,
             start: Start::Checkpoint(bytes),
             ..
-        }) => resume(args, name, &bytes, progress),
+        }) => resume(args, name, &bytes, stop, progress),
         Some(given) => {
             refuse_random_options(args, given.what)?;
             if given.barriers {
@@ -330,13 +418,13 @@ pub fn pack(
                 Start::Two(discs, sim_box) => {
                     let discs = at_speed(args, given.name, discs)?;
                     let at = Some((given.name, &given.lines[..]));
-                    let (p, s) = compress(args, at, discs, sim_box, options, progress)?;
+                    let (p, s) = compress(args, at, None, discs, sim_box, options, stop, progress)?;
                     Ok(Packed::Two(p, s))
                 }
                 Start::Three(discs, sim_box) => {
                     let discs = at_speed(args, given.name, discs)?;
                     let at = Some((given.name, &given.lines[..]));
-                    let (p, s) = compress(args, at, discs, sim_box, options, progress)?;
+                    let (p, s) = compress(args, at, None, discs, sim_box, options, stop, progress)?;
                     Ok(Packed::Three(p, s))
                 }
                 Start::Checkpoint(_) => unreachable!("continued above"),
@@ -352,6 +440,16 @@ pub fn pack(
                 return user_error(format!("pack: --n must be from 2 to {MAX_N}, found {n}"));
             }
             let sizes = sizes(args)?;
+            let carried = Some(match sizes {
+                PackSizes::Binary {
+                    size_ratio,
+                    fraction_large,
+                } => CarriedSizes::Binary {
+                    size_ratio,
+                    fraction_large,
+                },
+                PackSizes::Polydisperse { std } => CarriedSizes::Polydisperse { std },
+            });
             let boundary = match args.boundary {
                 None | Some(BoundaryArg::Periodic) => Boundary::Periodic,
                 Some(BoundaryArg::Walls) => Boundary::Walls,
@@ -360,13 +458,15 @@ pub fn pack(
                 3 => {
                     let (discs, sim_box) = random_start::<3>(n, sizes, boundary, seed(args))
                         .or_else(|e| user_error(e.to_string()))?;
-                    let (p, s) = compress(args, None, discs, sim_box, options, progress)?;
+                    let (p, s) =
+                        compress(args, None, carried, discs, sim_box, options, stop, progress)?;
                     Ok(Packed::Three(p, s))
                 }
                 _ => {
                     let (discs, sim_box) = random_start::<2>(n, sizes, boundary, seed(args))
                         .or_else(|e| user_error(e.to_string()))?;
-                    let (p, s) = compress(args, None, discs, sim_box, options, progress)?;
+                    let (p, s) =
+                        compress(args, None, carried, discs, sim_box, options, stop, progress)?;
                     Ok(Packed::Two(p, s))
                 }
             }
@@ -379,49 +479,152 @@ fn seed(args: &PackArgs) -> u64 {
     args.seed.unwrap_or(1)
 }
 
-/// Continues the compression a checkpoint holds (`name` names it).
+/// Continues the compression a checkpoint holds (`name` names it). Options given again must
+/// be the ones it carries (the same command line run again after a crash is accepted); a
+/// different value is refused, naming the option and both values.
 fn resume(
     args: &PackArgs,
     name: &str,
     bytes: &[u8],
+    stop: impl FnMut() -> bool,
     progress: impl FnMut(&Status) -> bool,
 ) -> Result<Packed> {
-    let compression = [
-        ("growth-rate", args.growth_rate.is_some()),
-        ("pressure", args.pressure.is_some()),
-        ("packing", args.packing.is_some()),
-        ("seed", args.seed.is_some()),
-    ];
-    for (flag, set) in random_start_options(args).into_iter().chain(compression) {
-        if set {
-            return user_error(format!(
-                "pack: --{flag} is carried by the checkpoint {name}; drop it to continue"
-            ));
-        }
-    }
-    fn load<const D: usize>(name: &str, bytes: &[u8]) -> Result<(Packer<D>, CheckpointExtra)> {
+    fn load<const D: usize>(
+        args: &PackArgs,
+        name: &str,
+        bytes: &[u8],
+    ) -> Result<(Packer<D>, u64, f64, Option<CarriedSizes>)> {
         let (packer, extra) =
             Packer::<D>::from_checkpoint(bytes).or_else(|e| user_error(format!("{name}: {e}")))?;
-        let Ok(extra) = postcard::from_bytes::<CheckpointExtra>(&extra) else {
-            return user_error(format!(
-                "{name}: checkpoint: the command's settings are missing or unreadable"
-            ));
-        };
-        Ok((packer, extra))
+        let (seed, wall_seconds, sizes) = read_extra(name, &extra)?;
+        check_carried(args, name, &packer, seed, sizes)?;
+        Ok((packer, seed, wall_seconds, sizes.flatten()))
     }
     match edmd_core::pack::pack_checkpoint_dim(bytes) {
         Ok(3) => {
-            let (packer, extra) = load::<3>(name, bytes)?;
-            let (p, s) = drive(args, packer, extra.seed, extra.wall_seconds, progress)?;
+            let (packer, seed, before, sizes) = load::<3>(args, name, bytes)?;
+            let (p, s) = drive(args, packer, seed, sizes, before, stop, progress)?;
             Ok(Packed::Three(p, s))
         }
         Ok(_) => {
-            let (packer, extra) = load::<2>(name, bytes)?;
-            let (p, s) = drive(args, packer, extra.seed, extra.wall_seconds, progress)?;
+            let (packer, seed, before, sizes) = load::<2>(args, name, bytes)?;
+            let (p, s) = drive(args, packer, seed, sizes, before, stop, progress)?;
             Ok(Packed::Two(p, s))
         }
         Err(e) => user_error(format!("{name}: {e}")),
     }
+}
+
+/// Refuses an option given beside a checkpoint with a value other than the one the checkpoint
+/// carries. `sizes` is the random start's sizes (`Some(None)`: the start was not random;
+/// `None`: a checkpoint too old to say).
+fn check_carried<const D: usize>(
+    args: &PackArgs,
+    name: &str,
+    packer: &Packer<D>,
+    seed: u64,
+    sizes: Option<Option<CarriedSizes>>,
+) -> Result<()> {
+    let differs = |flag: &str, given: String, carried: String| -> Result<()> {
+        user_error(format!(
+            "pack: --{flag} {given} differs from the value carried by the checkpoint {name}, {carried}; give the same or drop it to continue"
+        ))
+    };
+    let o = packer.options();
+    let same = |given: Option<f64>, carried: f64| given.is_none_or(|g| g == carried);
+    if let Some(d) = args.dim.filter(|&d| d != D) {
+        return differs("dim", d.to_string(), D.to_string());
+    }
+    if let Some(n) = args.n.filter(|&n| n != packer.particle_count()) {
+        return differs("n", n.to_string(), packer.particle_count().to_string());
+    }
+    if let Some(b) = args.boundary {
+        let want = match b {
+            BoundaryArg::Periodic => Boundary::Periodic,
+            BoundaryArg::Walls => Boundary::Walls,
+        };
+        let boxed = packer.sim_box();
+        if !(0..D).all(|a| boxed.is_periodic(a) == (want == Boundary::Periodic)) {
+            let carried = if (0..D).all(|a| boxed.is_periodic(a)) {
+                "periodic"
+            } else if (0..D).all(|a| !boxed.is_periodic(a)) {
+                "walls"
+            } else {
+                "mixed boundaries"
+            };
+            let given = if want == Boundary::Periodic {
+                "periodic"
+            } else {
+                "walls"
+            };
+            return differs("boundary", given.into(), carried.into());
+        }
+    }
+    let size_flags = [
+        ("size-ratio", args.size_ratio),
+        ("fraction-large", args.fraction_large),
+        ("polydispersity", args.polydispersity),
+    ];
+    if let Some((flag, given)) = size_flags.iter().find_map(|&(f, v)| v.map(|v| (f, v))) {
+        match sizes {
+            None => {
+                return user_error(format!(
+                    "pack: --{flag} is carried by the checkpoint {name}, written before checkpoints kept the start's sizes to compare with; drop it to continue"
+                ))
+            }
+            Some(None) => {
+                return user_error(format!(
+                    "pack: --{flag} {given} is for a random start, and the checkpoint {name} continues a given start whose sizes it carries; drop it to continue"
+                ))
+            }
+            Some(Some(carried)) => {
+                let (ratio, large, poly) = match carried {
+                    CarriedSizes::Binary {
+                        size_ratio,
+                        fraction_large,
+                    } => (Some(size_ratio), Some(fraction_large), None),
+                    CarriedSizes::Polydisperse { std } => (None, None, Some(std)),
+                };
+                for (flag, given, carried) in [
+                    ("size-ratio", args.size_ratio, ratio),
+                    ("fraction-large", args.fraction_large, large),
+                    ("polydispersity", args.polydispersity, poly),
+                ] {
+                    if let Some(g) = given {
+                        match carried {
+                            Some(c) if c == g => {}
+                            Some(c) => return differs(flag, format!("{g}"), format!("{c}")),
+                            None => return differs(flag, format!("{g}"), "other sizes".into()),
+                        }
+                    }
+                }
+            }
+        }
+    }
+    if !same(args.growth_rate, o.growth_rate) {
+        let g = args.growth_rate.unwrap_or_default();
+        return differs("growth-rate", format!("{g}"), format!("{}", o.growth_rate));
+    }
+    if !same(args.pressure, o.max_pressure) {
+        let p = args.pressure.unwrap_or_default();
+        return differs(
+            "pressure",
+            format!("{p:e}"),
+            format!("{:e}", o.max_pressure),
+        );
+    }
+    if let Some(phi) = args.packing {
+        if o.target_packing != Some(phi) {
+            let carried = o
+                .target_packing
+                .map_or("none".to_string(), |c| format!("{c}"));
+            return differs("packing", format!("{phi}"), carried);
+        }
+    }
+    if let Some(s) = args.seed.filter(|&s| s != seed) {
+        return differs("seed", s.to_string(), seed.to_string());
+    }
+    Ok(())
 }
 
 /// The options that describe a random start, and whether each was given.
@@ -499,13 +702,16 @@ fn at_speed<const D: usize>(
 }
 
 /// Compresses and analyses. `at` is the file the discs were read from and each disc's line
-/// there, named when the packer refuses a disc.
+/// there, named when the packer refuses a disc; `sizes` those of a random start.
+#[allow(clippy::too_many_arguments)]
 fn compress<const D: usize>(
     args: &PackArgs,
     at: Option<(&str, &[usize])>,
+    sizes: Option<CarriedSizes>,
     discs: Vec<Disc<D>>,
     sim_box: SimBox<D>,
     options: PackOptions,
+    stop: impl FnMut() -> bool,
     progress: impl FnMut(&Status) -> bool,
 ) -> Result<(Packing<D>, Summary)> {
     let packer = Packer::new(&discs, sim_box, options).or_else(|e| {
@@ -524,49 +730,87 @@ fn compress<const D: usize>(
             _ => e.to_string(),
         })
     })?;
-    drive(args, packer, seed(args), 0.0, progress)
+    drive(args, packer, seed(args), sizes, 0.0, stop, progress)
 }
 
 /// Runs a compression to its end (after `before` wall-clock seconds in earlier legs), writing
-/// the checkpoints `args` asks for, and analyses the packing.
+/// the checkpoints `args` asks for, and analyses the packing. Stopped by `stop` between two
+/// rescalings, it writes the last rescaling's checkpoint it kept (the state there is the only
+/// one a continuation can start from exactly).
 fn drive<const D: usize>(
     args: &PackArgs,
     packer: Packer<D>,
     seed: u64,
+    sizes: Option<CarriedSizes>,
     before: f64,
+    stop: impl FnMut() -> bool,
     mut progress: impl FnMut(&Status) -> bool,
 ) -> Result<(Packing<D>, Summary)> {
     let growth_rate = packer.options().growth_rate;
     let start = Instant::now();
     let every = Duration::try_from_secs_f64(args.checkpoint_every.unwrap_or(CHECKPOINT_EVERY))
         .unwrap_or(Duration::MAX);
+    let bytes = |pk: &Packer<D>| {
+        let extra = CheckpointExtra {
+            seed,
+            wall_seconds: before + start.elapsed().as_secs_f64(),
+            sizes,
+        };
+        pk.checkpoint(&postcard::to_stdvec(&extra).expect("numbers encode"))
+    };
+    // The last checkpoint taken and not yet written: the start's, so that a stop before the
+    // first rescaling leaves one too.
+    let mut kept = args.checkpoint.as_ref().map(|_| bytes(&packer));
+    let mut taken = Instant::now();
     let mut last = Instant::now();
     let mut failed = None;
-    let packing = packer.run_with(|pk| {
-        let go = progress(&pk.status());
-        if let Some(path) = &args.checkpoint {
-            if !go || last.elapsed() >= every {
-                let extra = CheckpointExtra {
-                    seed,
-                    wall_seconds: before + start.elapsed().as_secs_f64(),
-                };
-                let extra = postcard::to_stdvec(&extra).expect("two numbers encode");
-                if let Err(e) = write_checkpoint(path, &pk.checkpoint(&extra)) {
-                    failed = Some(e);
-                    return false;
+    let packing = packer.run_watched(
+        |pk| {
+            let go = progress(&pk.status());
+            if let Some(path) = &args.checkpoint {
+                let due = !go || last.elapsed() >= every;
+                if due || taken.elapsed() >= KEEP_EVERY {
+                    kept = Some(bytes(pk));
+                    taken = Instant::now();
                 }
-                last = Instant::now();
+                if due {
+                    let b = kept.take().expect("just taken");
+                    if let Err(e) = write_checkpoint(path, &b) {
+                        failed = Some(e);
+                        return false;
+                    }
+                    last = Instant::now();
+                }
             }
-        }
-        go
-    });
+            go
+        },
+        stop,
+    );
     if let Some(e) = failed {
         return Err(e);
+    }
+    if let (Some(path), Some(b), Ok(p)) = (&args.checkpoint, &kept, &packing) {
+        if p.stop == Stop::Interrupted {
+            write_checkpoint(path, b)?;
+        }
     }
     let packing: Packing<D> = packing.or_else(|e| user_error(e.to_string()))?;
     let wall_seconds = before + start.elapsed().as_secs_f64();
     let tol = gap_tolerance(packing.reduced_pressure.unwrap_or(1.0), D);
-    let c = contacts(&packing.discs, &packing.sim_box, tol);
+    let c = if packing.stop == Stop::Interrupted {
+        // Nothing is written: the analysis (about a second for 10^6 particles) would only
+        // delay the end Ctrl-C asked for.
+        edmd_core::pack::Contacts {
+            gap_tolerance: tol,
+            rattler: Vec::new(),
+            rattlers: 0,
+            contacts: Vec::new(),
+            mean_contacts: f64::NAN,
+            min_gap: f64::NAN,
+        }
+    } else {
+        contacts(&packing.discs, &packing.sim_box, tol)
+    };
     let summary = Summary {
         dim: D,
         n: packing.discs.len(),
@@ -592,11 +836,10 @@ fn drive<const D: usize>(
 /// Writes the packing and prints the summary.
 fn report<const D: usize>(
     args: &PackArgs,
-    out_file: Option<AtomicFile>,
     packing: &Packing<D>,
     mut summary: Summary,
 ) -> Result<()> {
-    write(out_file, packing)?;
+    write(&args.output, packing)?;
     summary.output = args.output.clone();
     if args.json {
         crate::print_line(&serde_json::to_string(&summary)?);
@@ -635,10 +878,14 @@ fn progress_bar() -> Option<indicatif::ProgressBar> {
     Some(pb)
 }
 
-/// Writes the packing to `out_file`, or to standard output when there is none (`-o -`).
-fn write<const D: usize>(out_file: Option<AtomicFile>, packing: &Packing<D>) -> Result<()> {
+/// Writes the packing to `output`, or to standard output for `-`.
+fn write<const D: usize>(output: &str, packing: &Packing<D>) -> Result<()> {
     let format = Format::Princeton(ColumnOrder::RadiusMass);
     let (discs, sim_box) = (&packing.discs, &packing.sim_box);
+    let out_file = match output {
+        "-" => None,
+        p => Some(AtomicFile::create(Path::new(p))?),
+    };
     match out_file {
         None => {
             let mut out = std::io::stdout().lock();

@@ -49,6 +49,21 @@ const LIST_SKIN: f64 = 0.2;
 /// End of a cell list.
 const NONE: u32 = u32::MAX;
 
+/// Events between two looks at the caller's stop request ([`Packer::run_watched`]): a few
+/// milliseconds of work, so that Ctrl-C is answered at once whatever the number of particles
+/// and however far apart the rescalings are.
+const STOP_EVERY: u64 = 1 << 16;
+
+/// The reduced pressure (2D, 3D) above which a packing counts as jammed: where the contact gap
+/// tolerance `1000 d / p` ([`crate::pack::gap_tolerance`]) falls below its cap of 1%, so that
+/// contacts mean something. A packing fraction that stops changing below it has stopped because
+/// the growth is too slow for double precision, not because the particles jammed.
+const JAMMED_PRESSURE: [f64; 2] = [2e5, 3e5];
+
+/// A particle whose diameter comes within this fraction of the box's width between two walls
+/// is caged by the walls alone (see [`Packer::caged`]).
+const CAGE_GAP: f64 = 1e-9;
+
 /// A particle's one pending event.
 #[derive(Clone, Copy, Debug, PartialEq)]
 enum Next {
@@ -79,6 +94,31 @@ struct Particle<const D: usize> {
     count: u64,
     cell: u32,
     next: Next,
+}
+
+/// The axes' names, in messages.
+const AXES: [&str; 3] = ["x", "y", "z"];
+
+/// Refuses a compression to jamming of particles that all lie on one line (plane) across which
+/// none of them moves: every collision then pushes along it, so they stay on it and the
+/// compression can only jam them as a chain along it, however large the box (Princeton's `squeeze.txt`: three discs at
+/// y = 0.3 moving along x "packed" to a reduced pressure of 0.0, the walls across the line
+/// never struck).
+fn flat<const D: usize>(discs: &[Disc<D>]) -> Result<(), Error> {
+    if discs.len() < 2 {
+        return Ok(());
+    }
+    for a in 0..D {
+        let at = discs[0].pos[a];
+        if discs.iter().all(|d| d.pos[a] == at && d.vel[a] == 0.0) {
+            let what = if D == 3 { "plane" } else { "line" };
+            return Err(Error::Invalid(format!(
+                "pack: every particle is on the {what} {} = {at} and none moves across it, so they stay on it and can only jam in a chain along it: give them velocities across it, or a start off the {what}",
+                AXES[a]
+            )));
+        }
+    }
+    Ok(())
 }
 
 /// The Lubachevsky-Stillinger compression of one system (see the module `pack`).
@@ -117,6 +157,9 @@ pub struct Packer<const D: usize> {
     grid_deadline: f64,
     /// Time at which the target packing fraction is reached (`+inf` without one).
     target_time: f64,
+    /// Time at which the largest particle's diameter comes within [`CAGE_GAP`] of the
+    /// narrowest width between two walls (`+inf` in a periodic box).
+    cage_time: f64,
     /// Interval accumulators: the pair virial `sum |r_ij| J_el`, the wall impulses, the
     /// kinetic energy and its time integral.
     virial: f64,
@@ -150,6 +193,11 @@ impl<const D: usize> Packer<D> {
             return Err(Error::Invalid(
                 "pack: every particle is at rest; give them velocities".into(),
             ));
+        }
+        if options.target_packing.is_none() {
+            // (With a target the compression stops there, and a line of particles at that
+            // packing fraction is what was asked for.)
+            flat(discs)?;
         }
         let parts: Vec<Particle<D>> = discs
             .iter()
@@ -188,10 +236,67 @@ impl<const D: usize> Packer<D> {
                 )));
             }
         }
+        packer.too_slow()?;
         packer.rescale_velocities();
         packer.rebuild_grid(true)?;
         packer.predict_all();
         Ok(packer)
+    }
+
+    /// Refuses a growth rate too small to change the diameters in double precision between two
+    /// rescalings (`--growth-rate 1e-300` "converged" at once and handed back the start as a
+    /// packing). The interval is overestimated as the time to cross the box's longest side
+    /// `collisions_per_rescale` times at the rms speed 1 (a particle meets others long before
+    /// it crosses the box); if the packing fraction would change by less than
+    /// [`PackOptions::min_relative_change`] even then, the first measured intervals would stop
+    /// the compression as converged, and with a change below the rounding of the scale nothing
+    /// would ever move.
+    fn too_slow(&self) -> Result<(), Error> {
+        let longest = self.sim_box.lengths.iter().copied().fold(0.0, f64::max);
+        let t = self.options.collisions_per_rescale * longest;
+        let s = self.scale(t);
+        let change = (s / self.s0).powi(D as i32) - 1.0;
+        if !(change >= self.options.min_relative_change && s > self.s0) {
+            return Err(Error::Invalid(format!(
+                "pack: growth rate {:e} is too slow to change the diameters in double precision (the packing fraction would change by {change:.1e} relatively between two rescalings, below the {:.0e} that counts as converged): the compression would stop at once; use a larger --growth-rate",
+                self.options.growth_rate, self.options.min_relative_change
+            )));
+        }
+        Ok(())
+    }
+
+    /// The particle and the walled axis on which a particle's diameter is within `gap` of the
+    /// box's width (relatively): caged between two walls, it is held by them alone and no
+    /// packing of the others follows from it.
+    fn caged(&self, gap: f64) -> Option<(usize, usize)> {
+        let s = self.scale(self.now);
+        let (i, p) = self
+            .parts
+            .iter()
+            .enumerate()
+            .fold((0, &self.parts[0]), |best, (i, p)| {
+                if p.d0 > best.1.d0 {
+                    (i, p)
+                } else {
+                    best
+                }
+            });
+        (0..D)
+            .filter(|&a| !self.sim_box.is_periodic(a))
+            .find(|&a| p.d0 * s >= (1.0 - gap) * self.sim_box.lengths[a])
+            .map(|a| (i, a))
+    }
+
+    /// The refusal of a compression in which particle `i` has grown to the box's width on
+    /// `axis` between two walls.
+    fn caged_error(&self, i: usize, axis: usize) -> Error {
+        Error::Invalid(format!(
+            "pack: particle {i} has grown to the width of the box between the walls on {} (diameter {:.9} in a box {:.9} wide, at packing fraction {:.6}): caged by the walls alone, it cannot jam with the others; give a larger box or smaller particles",
+            AXES[axis],
+            self.parts[i].d0 * self.scale(self.now),
+            self.sim_box.lengths[axis],
+            self.packing_fraction()
+        ))
     }
 
     /// A packer of `parts` at time 0 and scale 1, before the grid, the velocities' rescaling
@@ -236,6 +341,7 @@ impl<const D: usize> Packer<D> {
             now: 0.0,
             grid_deadline: f64::INFINITY,
             target_time: f64::INFINITY,
+            cage_time: f64::INFINITY,
             virial: 0.0,
             wall_impulse: 0.0,
             ke: 0.0,
@@ -272,18 +378,47 @@ impl<const D: usize> Packer<D> {
 
     /// [`Self::run`], with the packer itself handed to `progress` at every measured
     /// synchronisation, where [`Self::checkpoint`] may be taken (and [`Self::status`] read).
-    pub fn run_with(
+    pub fn run_with(self, progress: impl FnMut(&Packer<D>) -> bool) -> Result<Packing<D>, Error> {
+        self.run_watched(progress, || false)
+    }
+
+    /// [`Self::run_with`], also asking `stop` every 65 536 events (a few milliseconds) whether
+    /// to stop ([`Stop::Interrupted`]): the rescalings, where `progress` is called, come every
+    /// `collisions_per_rescale` collisions per particle, which for 10^6 particles is minutes
+    /// apart. Looking changes nothing: a run never stopped is the same bit for bit. A run
+    /// stopped between rescalings cannot be checkpointed where it stopped; the last state
+    /// `progress` saw can.
+    pub fn run_watched(
         mut self,
         mut progress: impl FnMut(&Packer<D>) -> bool,
+        mut stop: impl FnMut() -> bool,
     ) -> Result<Packing<D>, Error> {
         let n = self.parts.len() as u64;
         let per_sync = ((self.options.collisions_per_rescale * n as f64) as u64).max(1);
         let stall_limit = (100 * n).max(1_000_000);
         // Zero wherever the caller can see the packer (at its start and after an event).
         let mut idle_syncs = 0u32;
+        // The first look is at once: a request that came while the packer was being built
+        // is answered before any work.
+        let mut until_look = 1;
         let stop = loop {
+            until_look -= 1;
+            if until_look == 0 {
+                until_look = STOP_EVERY;
+                if stop() {
+                    break Stop::Interrupted;
+                }
+            }
             let (i, t) = self.queue.min().expect("one event per particle");
             let deadline = self.grid_deadline.min(self.target_time);
+            if t >= self.cage_time && self.cage_time < deadline {
+                // The largest particle is about to fill the box between two walls: its
+                // collisions with them would come ever faster until the clock stops.
+                self.now = self.cage_time;
+                self.advance_all();
+                let (i, a) = self.caged(2.0 * CAGE_GAP).unwrap_or((0, 0));
+                return Err(self.caged_error(i, a));
+            }
             if t >= deadline {
                 if self.target_time <= self.grid_deadline {
                     self.now = self.target_time;
@@ -308,12 +443,7 @@ impl<const D: usize> Packer<D> {
             if t == self.now {
                 self.same_time = self.same_time.saturating_add(1);
                 if self.same_time > stall_limit {
-                    return Err(Error::Invalid(format!(
-                        "pack: the clock stopped: {} events in a row at one time, at packing fraction {:.9} and reduced pressure {:.3e} (particle {i} and its neighbours are jammed beyond what double precision resolves; ask for a lower --pressure)",
-                        self.same_time,
-                        self.packing_fraction(),
-                        self.pressure.unwrap_or(f64::NAN)
-                    )));
+                    return Err(self.stalled(i));
                 }
             } else {
                 self.same_time = 0;
@@ -338,9 +468,43 @@ impl<const D: usize> Packer<D> {
         Ok(self.finish(stop))
     }
 
+    /// The refusal of a run whose clock stopped at particle `i`. Near jamming that is the
+    /// gaps reaching the rounding of the positions, and a lower `--pressure` stops first; at
+    /// a pressure far from that (a file with one large and one tiny disc between walls stopped
+    /// so at a reduced pressure of 9.4, with that advice) the pressure cannot be the cause, and
+    /// the message says so rather than advise it.
+    fn stalled(&self, i: usize) -> Error {
+        let phi = self.packing_fraction();
+        let head = format!(
+            "pack: the clock stopped: {} events in a row at one time, at packing fraction {phi:.9}, around particle {i}",
+            self.same_time
+        );
+        Error::Invalid(match self.pressure {
+            Some(p) if p >= JAMMED_PRESSURE[D - 2] => format!(
+                "{head} and reduced pressure {p:.3e}: the particles are jammed beyond what double precision resolves; ask for a lower --pressure"
+            ),
+            Some(p) => format!(
+                "{head}, where the last reduced pressure measured was {p:.3e}, far from jamming: some particles are held in a cluster that double precision cannot resolve, not jammed; no packing follows from it"
+            ),
+            None => format!(
+                "{head}, before any reduced pressure was measured: some particles are held in a cluster that double precision cannot resolve, not jammed; no packing follows from it"
+            ),
+        })
+    }
+
     /// The options of the compression.
     pub fn options(&self) -> &PackOptions {
         &self.options
+    }
+
+    /// The number of particles.
+    pub fn particle_count(&self) -> usize {
+        self.parts.len()
+    }
+
+    /// The box.
+    pub fn sim_box(&self) -> &SimBox<D> {
+        &self.sim_box
     }
 
     /// Whether neighbour lists have replaced the cell crossings (above [`LIST_PACKING`]).
@@ -793,6 +957,11 @@ impl<const D: usize> Packer<D> {
             let s_target = (target * self.sim_box.volume() / self.vol0).powf(1.0 / D as f64);
             self.target_time = (s_target - self.s0) / self.g;
         }
+        let walled = (0..D)
+            .filter(|&a| !self.sim_box.is_periodic(a))
+            .map(|a| self.sim_box.lengths[a])
+            .fold(f64::INFINITY, f64::min);
+        self.cage_time = ((1.0 - CAGE_GAP) * walled / self.d0_max - self.s0) / self.g;
         Ok(())
     }
 
@@ -837,8 +1006,23 @@ impl<const D: usize> Packer<D> {
             if p >= self.options.max_pressure {
                 stop = Some(Stop::Pressure);
             } else if let Some(last) = self.last_packing {
-                if (phi - last) / phi < self.options.min_relative_change {
+                let change = (phi - last) / phi;
+                if change < self.options.min_relative_change {
+                    if p < JAMMED_PRESSURE[D - 2] {
+                        return Err(Error::Invalid(format!(
+                            "pack: the packing fraction stopped changing at {phi:.9} (by {change:.1e} relatively over the last {} collisions per particle) at reduced pressure {p:.3e}, far from jamming: growth rate {:e} is too slow for double precision here; use a larger --growth-rate",
+                            self.options.collisions_per_rescale, self.options.growth_rate
+                        )));
+                    }
                     stop = Some(Stop::Converged);
+                }
+            }
+            if stop.is_some() {
+                // A particle held between two walls within the contacts' gap tolerance drives
+                // the pressure up by itself: the others need not be jammed.
+                let gap = crate::pack::gap_tolerance(p, D);
+                if let Some((i, a)) = self.caged(gap) {
+                    return Err(self.caged_error(i, a));
                 }
             }
             self.last_packing = Some(phi);
@@ -884,7 +1068,16 @@ impl<const D: usize> Packer<D> {
                 colour,
                 species,
             })
-            .collect();
+            .collect::<Vec<_>>();
+        // Written in the order of the cells, as the fluid generators write theirs, so that a
+        // run of the packing reads neighbours near each other in memory: the start's order
+        // is random. A function of the final state alone, so a continued compression
+        // orders its packing as the one never stopped.
+        let mut discs = discs;
+        if stop != Stop::Interrupted {
+            // (An interrupted compression is not written; the sort would only delay the end.)
+            crate::setup::fluid::in_cell_order(&mut discs, &self.sim_box);
+        }
         Packing {
             packing_fraction: self.packing_fraction(),
             discs,

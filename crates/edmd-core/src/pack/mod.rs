@@ -29,6 +29,12 @@
 //!   interval ([`Stop::Converged`]), or exactly at [`PackOptions::target_packing`]
 //!   ([`Stop::Packing`]). A clock that stops advancing (`max(10^6, 100 N)` events at one
 //!   instant) ends the run with an error rather than a hang.
+//! - **Refusals.** What would not be a packing is an error, not a stop: a packing fraction
+//!   that stops changing while the pressure is far from jamming (the growth too slow for
+//!   double precision), a growth rate too small to change the diameters at all (refused by
+//!   [`Packer::new`]), particles all on one line or plane and none moving across it (they
+//!   can only jam as a chain along it), and a particle grown to the width of the box between
+//!   two walls (caged by the walls, whatever the others do).
 //!
 //! Exactness: particles never overlap by more than rounding; the contact analysis reports the
 //! smallest gap ([`Contacts::min_gap`]). Every choice is deterministic, so the same start and
@@ -139,7 +145,7 @@ pub enum Stop {
     Converged,
     /// The target packing fraction was reached.
     Packing,
-    /// The progress callback asked to stop.
+    /// The progress callback or the stop request ([`Packer::run_watched`]) asked to stop.
     Interrupted,
 }
 
