@@ -5,6 +5,8 @@
 //!   `rx ry vx vy radius mass r g b` per disc, in the unit box with walls), with edmd's
 //!   extension, which includes 3D files of spheres (`# edmd dim 3`).
 //! - [`xyz`]: extended XYZ trajectory frames, as read by OVITO and ASE.
+//! - [`gsd`]: HOOMD GSD frames, written and read (through the `hoomd-gsd` crate), so that
+//!   HOOMD-blue and edmd continue each other's systems.
 //!
 //! Readers never panic on bad input: they return a [`ParseError`] naming the line and what is
 //! wrong, and engine-level problems (overlaps, discs outside the box) can be traced back to a
@@ -13,6 +15,7 @@
 #![forbid(unsafe_code)]
 
 pub mod course;
+pub mod gsd;
 pub mod princeton;
 mod text;
 pub mod xyz;

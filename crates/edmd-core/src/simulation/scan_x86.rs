@@ -39,7 +39,7 @@ const BATCH: usize = 64;
 
 /// From how many spheres the scan prefetches the candidates' records as it gathers them: where
 /// the records (80 bytes each) outgrow a core's L2 cache of 1 or 2 MiB. Below, they are
-/// there already and the prefetches cost 7% (BENCHMARKS.md, fifteenth session).
+/// there already and the prefetches cost 7% (BENCHMARKS.md).
 const FETCH_FROM: usize = 1 << 14;
 
 /// The candidates worked out at once.
@@ -52,7 +52,7 @@ const _: () = {
     assert!(offset_of!(Body<3>, time) == 48);
     assert!(offset_of!(Body<3>, radius) == 56);
     assert!(size_of::<Vector<3>>() == 24);
-    assert!(BATCH % LANES == 0);
+    assert!(BATCH.is_multiple_of(LANES));
 };
 
 /// The candidates of a scan, gathered for [`terms_x4`]: scratch space that lives with the

@@ -1,0 +1,3 @@
+//! Integration tests of the file formats, compiled as one binary.
+
+mod gsd;
