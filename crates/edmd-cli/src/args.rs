@@ -91,7 +91,8 @@ pub struct RunArgs {
     /// Input file (`-` for standard input): a data file, or a checkpoint to continue.
     pub file: String,
     /// End time of the simulation (absolute: a run continued from a checkpoint at time T0 runs
-    /// from T0 to this time).
+    /// from T0 to this time). Any finite time is taken, however many events it needs; Ctrl-C
+    /// (SIGTERM, SIGHUP) stops the run within a second, with exit status 130.
     #[arg(long, value_name = "T", value_parser = parse_time, allow_negative_numbers = true)]
     pub until: f64,
     /// Write the final state here, in the input's format (`-` for standard output).
@@ -105,6 +106,10 @@ pub struct RunArgs {
     /// columns.
     #[arg(long, value_enum)]
     pub columns: Option<ColumnsArg>,
+    /// The frame of a GSD input file to start from, counted from 0 (negative from the end;
+    /// default the last). GSD files only.
+    #[arg(long, value_name = "K", allow_negative_numbers = true)]
+    pub frame: Option<i64>,
     /// Collision rule (default: swap for course files, as the course's `particles` does;
     /// elastic for every other file).
     #[arg(long, value_enum)]
@@ -127,23 +132,25 @@ pub struct RunArgs {
     /// Simulated time between checkpoints.
     #[arg(long, value_name = "DT", value_parser = parse_positive, requires = "checkpoint", allow_negative_numbers = true)]
     pub checkpoint_every: Option<f64>,
-    /// Write frames to this extended XYZ file (OVITO, ASE).
+    /// Write frames to this extended XYZ file (OVITO, ASE). At most 10^6 frames and about
+    /// 100 GB (estimated before the run from the first frame's size; more is refused).
     #[arg(long, value_name = "FILE.xyz", requires = "every")]
     pub trajectory: Option<PathBuf>,
     /// Interval between trajectory frames.
     #[arg(long, value_name = "DT", value_parser = parse_positive, requires = "trajectory", allow_negative_numbers = true)]
     pub every: Option<f64>,
     /// Attach measurements (comma-separated): temperature, pressure, collisions, speeds, msd,
-    /// species. Their time series go to CSV files in --out-dir, their summaries into the
-    /// run's summary.
+    /// species. Their summaries go into the run's summary, and their time series to CSV files
+    /// in --out-dir when it is given (none are written without it).
     #[arg(long, value_enum, value_delimiter = ',')]
     pub measure: Vec<crate::commands::measurements::Measure>,
     /// Interval between measurement samples (default: a hundredth of the run's length). With
     /// --measure, or on a checkpoint that carries measurements.
     #[arg(long, value_name = "DT", value_parser = parse_positive, allow_negative_numbers = true)]
     pub sample_every: Option<f64>,
-    /// Folder for the measurement CSV files (as in `edmd experiment`; the old spelling
-    /// `--measure-dir` still works).
+    /// Folder for the measurement CSV files (created if missing; files of the same names there
+    /// are replaced). Without it no CSV file is written and the results are only in the summary.
+    /// The old spelling `--measure-dir` still works.
     #[arg(long = "out-dir", alias = "measure-dir", value_name = "DIR")]
     pub measure_dir: Option<PathBuf>,
     /// Print the summary as one JSON object on standard output.

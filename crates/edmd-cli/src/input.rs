@@ -84,6 +84,46 @@ fn not_text<T>(path: &str, bytes: &[u8], msg: String) -> Result<T> {
     user_error(checkpoint_kind(path, bytes).unwrap_or(msg))
 }
 
+/// Reads any data file `edmd run` takes: a GSD file (HOOMD schema; known by its first bytes or a
+/// `.gsd` name), frame `frame` of it (negative from the end; the last by default), or else a
+/// text file in the course or Princeton format ([`read_text`], [`load_any`]). Notes the GSD
+/// reader makes (float64 copies not used, and why) go to standard error.
+pub fn read_any(
+    path: &str,
+    format: Option<Format>,
+    order: ColumnOrder,
+    frame: Option<i64>,
+) -> Result<AnyLoaded> {
+    if path != "-" {
+        let mut start = [0u8; 8];
+        let magic = std::fs::File::open(path)
+            .and_then(|mut f| f.read_exact(&mut start))
+            .is_ok()
+            && edmd_io::gsd::is_gsd(&start);
+        if magic || path.ends_with(".gsd") {
+            if format.is_some() {
+                return user_error(format!(
+                    "{path}: a GSD file: --format applies to text files"
+                ));
+            }
+            return match edmd_io::gsd::read_frame(path, frame.unwrap_or(-1)) {
+                Ok(f) => {
+                    for note in &f.notes {
+                        eprintln!("{path}: note: {note}");
+                    }
+                    Ok(f.system)
+                }
+                Err(e) => user_error(e.to_string()),
+            };
+        }
+    }
+    if frame.is_some() {
+        return user_error(format!("{path}: --frame applies to GSD files"));
+    }
+    let text = read_text(path)?;
+    load_any(path, &text, format, order)
+}
+
 /// What a file starting with `start` is when it is an edmd checkpoint (a run's or a
 /// packing's), with the command that continues it; `None` for any other file.
 pub fn checkpoint_kind(path: &str, start: &[u8]) -> Option<String> {
@@ -186,14 +226,16 @@ pub fn build_with_hint<const D: usize>(
             "particles refuses it; 'edmd run --rule swap --allow-overlaps' moves them in",
         )
     };
-    Simulation::with_barriers(&sys.discs, sys.sim_box, &sys.barriers, options).or_else(|e| {
-        user_error(refusal_at_line(
-            path,
-            &sys.lines,
-            e,
-            (overlap_hint, outside_hint),
-        ))
-    })
+    Simulation::with_barriers_at(&sys.discs, sys.sim_box, &sys.barriers, options, sys.time).or_else(
+        |e| {
+            user_error(refusal_at_line(
+                path,
+                &sys.lines,
+                e,
+                (overlap_hint, outside_hint),
+            ))
+        },
+    )
 }
 
 /// The engine's refusal of the discs read from `path` as one line naming the offending disc's

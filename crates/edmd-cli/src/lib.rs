@@ -27,6 +27,28 @@ impl fmt::Display for UserError {
 
 impl std::error::Error for UserError {}
 
+/// Exit status of a command stopped by Ctrl-C, SIGTERM or SIGHUP (the shells' convention for
+/// SIGINT, 128 + 2), whichever command it was.
+pub const INTERRUPTED_STATUS: u8 = 130;
+
+/// A command stopped by a signal before it finished: reported in one line (what was kept, what
+/// was not written), exit status [`INTERRUPTED_STATUS`].
+#[derive(Debug)]
+pub struct Interrupted(pub String);
+
+impl fmt::Display for Interrupted {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(&self.0)
+    }
+}
+
+impl std::error::Error for Interrupted {}
+
+/// Shorthand for returning an [`Interrupted`].
+pub fn interrupted<T>(msg: impl Into<String>) -> anyhow::Result<T> {
+    Err(Interrupted(msg.into()).into())
+}
+
 /// Prints a line on standard output. A closed pipe (`edmd ... | head`) is not an error: the
 /// reader has what it wanted, so the program ends quietly instead of panicking like
 /// `println!`.
@@ -66,6 +88,17 @@ pub fn run_until<const D: usize, O: edmd_core::Observer<D>>(
 ) -> anyhow::Result<()> {
     sim.run_until(t, observer);
     check_stall(sim)
+}
+
+/// Refuses an end time (`--until`) at or beyond the clock's limit for this system
+/// ([`edmd_core::Simulation::check_clock`]): one line naming the file, before any work.
+pub fn check_until<const D: usize>(
+    sim: &edmd_core::Simulation<D>,
+    file: &str,
+    until: f64,
+) -> anyhow::Result<()> {
+    sim.check_clock(until)
+        .or_else(|e| user_error(format!("{file}: --until: {e}")))
 }
 
 /// Events run between two looks at the stop flag in [`run_until_or_stop`] (and `edmd run`):
@@ -122,6 +155,10 @@ pub fn exit_with(program: &str, result: anyhow::Result<()>) -> ExitCode {
         {
             // The reader went away (`particles f 10 | head`): it has what it wanted.
             ExitCode::SUCCESS
+        }
+        Err(e) if e.downcast_ref::<Interrupted>().is_some() => {
+            eprintln!("{program}: {}", format!("{e:#}").replace('\n', " "));
+            ExitCode::from(INTERRUPTED_STATUS)
         }
         Err(e) => {
             let user = is_user_error(&e);

@@ -12,6 +12,18 @@ fn main() -> ExitCode {
         Ok(c) => c,
         Err(code) => return code,
     };
+    // Before any work, so that a signal is never met by the default action (which would leave
+    // temporary files): each of these looks at the stop flag in every loop (the experiments
+    // choose for themselves: `jamming` stops at the packer's pace).
+    if matches!(
+        cli.command,
+        Command::Run(_) | Command::Soak(_) | Command::Render(_) | Command::Experiment(_)
+    ) {
+        commands::experiment::common::install_ctrlc();
+        if !matches!(cli.command, Command::Experiment(_)) {
+            commands::experiment::common::stop_promptly();
+        }
+    }
     let result = match &cli.command {
         Command::Run(a) => commands::run::run(a),
         Command::Bench(a) => commands::bench::run(a),

@@ -248,11 +248,12 @@ fn ctrl_c_abandons_a_run_without_leaving_files() {
     );
     assert!(out.status.success());
     let child = Command::new(env!("CARGO_BIN_EXE_edmd"))
-        .args(["run", big.to_str().unwrap(), "--until", "1e9", "--output"])
+        .args(["run", big.to_str().unwrap(), "--until", "1e6", "--output"])
         .arg(dir.path().join("out.txt"))
         .args(["--trajectory"])
         .arg(dir.path().join("t.xyz"))
-        .args(["--every", "1000"])
+        // 10^4 frames: within the 100 GB a trajectory may take.
+        .args(["--every", "1e2"])
         .stdout(Stdio::piped())
         .stderr(Stdio::piped())
         .spawn()

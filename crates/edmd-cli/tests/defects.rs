@@ -5,7 +5,7 @@ use std::path::Path;
 use std::process::{Command, Stdio};
 use std::time::Duration;
 
-use crate::support::{run, shared, write};
+use crate::support::{example, run, shared, write};
 
 const P10_LINE: &str = "0.5 0.5 0.01 0 0.05 1 1 2 3";
 
@@ -28,8 +28,9 @@ fn names(dir: &Path) -> Vec<String> {
     v
 }
 
-fn p10() -> String {
-    shared("algs4/p10.txt").to_string_lossy().into_owned()
+/// A small Princeton file that ships with the project, for the tests of options and outputs.
+fn gas() -> String {
+    example("gas-300.txt").to_string_lossy().into_owned()
 }
 
 /// True when this process may not create files in `/dev`, so that a regression of the device
@@ -65,7 +66,7 @@ fn output_to_dev_full_is_a_write_error_and_keeps_the_device() {
     }
     let out = run(
         "edmd",
-        &["run", &p10(), "--until", "1", "-o", "/dev/full"],
+        &["run", &gas(), "--until", "1", "-o", "/dev/full"],
         None,
     );
     refused_with(&out, "/dev/full: cannot write");
@@ -83,7 +84,7 @@ fn output_to_dev_null_keeps_the_device() {
     }
     let out = run(
         "edmd",
-        &["run", &p10(), "--until", "1", "-o", "/dev/null"],
+        &["run", &gas(), "--until", "1", "-o", "/dev/null"],
         None,
     );
     assert!(
@@ -148,7 +149,7 @@ fn output_through_a_symlink_writes_the_target_and_keeps_the_link() {
     std::os::unix::fs::symlink("target.txt", &link).unwrap();
     let out = run(
         "edmd",
-        &["run", &p10(), "--until", "1", "-o", link.to_str().unwrap()],
+        &["run", &gas(), "--until", "1", "-o", link.to_str().unwrap()],
         None,
     );
     assert!(
@@ -161,7 +162,7 @@ fn output_through_a_symlink_writes_the_target_and_keeps_the_link() {
         .file_type()
         .is_symlink());
     let text = std::fs::read_to_string(&target).unwrap();
-    assert!(text.starts_with("10\n"), "{text}");
+    assert!(text.starts_with("300\n"), "{text}");
     assert_eq!(names(dir.path()), ["link.txt", "target.txt"]);
 }
 
@@ -201,7 +202,7 @@ fn output_and_a_measurement_file_of_the_same_name_are_refused() {
         "edmd",
         &[
             "run",
-            &p10(),
+            &gas(),
             "--until",
             "1",
             "-o",
@@ -281,14 +282,14 @@ fn signalled(dir: &Path, args: &[&str], signal: &str, wait: Duration) -> std::pr
 fn sigterm_during_run_leaves_no_temporary_files() {
     let dir = tempfile::tempdir().unwrap();
     let input = dir.path().join("in.txt");
-    std::fs::copy(shared("algs4/p2000.txt"), &input).unwrap();
+    std::fs::copy(shared!("algs4/p2000.txt"), &input).unwrap();
     let status = signalled(
         dir.path(),
         &[
             "run",
             "in.txt",
             "--until",
-            "1e7",
+            "5e5",
             "-o",
             "out.txt",
             "--trajectory",
@@ -312,7 +313,7 @@ fn signals_during_render_leave_no_partial_output() {
         ("-TERM", "frames/"),
     ] {
         let dir = tempfile::tempdir().unwrap();
-        std::fs::copy(shared("algs4/p2000.txt"), dir.path().join("in.txt")).unwrap();
+        std::fs::copy(shared!("algs4/p2000.txt"), dir.path().join("in.txt")).unwrap();
         let status = signalled(
             dir.path(),
             &[
@@ -333,7 +334,7 @@ fn signals_during_render_leave_no_partial_output() {
 fn sigterm_during_a_long_render_frame_stops_within_seconds() {
     for out in ["movie.gif", "frames/"] {
         let dir = tempfile::tempdir().unwrap();
-        std::fs::copy(shared("algs4/p2000.txt"), dir.path().join("in.txt")).unwrap();
+        std::fs::copy(shared!("algs4/p2000.txt"), dir.path().join("in.txt")).unwrap();
         let mut child = Command::new(env!("CARGO_BIN_EXE_edmd"))
             .args([
                 "render",
@@ -386,7 +387,7 @@ fn sigterm_during_a_long_render_frame_stops_within_seconds() {
 fn render_frame_count_overflow_is_refused() {
     let dir = tempfile::tempdir().unwrap();
     let gif = dir.path().join("f.gif");
-    let p = p10();
+    let p = gas();
     for extra in [["--until", "7.4e17"], ["--fps", "1e300"]] {
         let mut args = vec!["render", &p, "-o", gif.to_str().unwrap()];
         args.extend(extra);
@@ -433,7 +434,7 @@ fn unbounded_options_are_refused() {
     let d = dir.path().to_str().unwrap();
     let f = dir.path().join("x.txt");
     let fs = f.to_str().unwrap();
-    let p = p10();
+    let p = gas();
     let cases: &[(&[&str], &str)] = &[
         (
             &[
@@ -559,7 +560,7 @@ fn repeated_box_and_boundary_lines_are_refused() {
 #[test]
 fn json_with_state_on_stdout_and_trajectory_dash_are_refused() {
     let dir = tempfile::tempdir().unwrap();
-    let p = p10();
+    let p = gas();
     let out = run(
         "edmd",
         &["run", &p, "--until", "1", "--json", "-o", "-"],
@@ -589,7 +590,7 @@ fn json_with_state_on_stdout_and_trajectory_dash_are_refused() {
 #[test]
 fn render_output_must_be_gif_mp4_or_a_frame_folder() {
     let dir = tempfile::tempdir().unwrap();
-    let p = p10();
+    let p = gas();
     for name in ["out.png", "out.txt", "out.avi"] {
         let o = dir.path().join(name);
         let out = run(
@@ -639,7 +640,7 @@ fn negative_option_values_get_the_allowed_range() {
         None,
     );
     refused_with(&out, "--gap must be in [0, 0.04)");
-    let p = p10();
+    let p = gas();
     let out = run(
         "edmd",
         &[
@@ -705,7 +706,7 @@ fn failed_experiment_removes_the_folder_it_created() {
 fn run_and_experiments_spell_their_options_alike() {
     let dir = tempfile::tempdir().unwrap();
     let m = dir.path().join("m");
-    let p = p10();
+    let p = gas();
     let out = run(
         "edmd",
         &[
@@ -791,7 +792,7 @@ fn columns_on_a_course_file_is_refused() {
 fn run_on_a_course_file_agrees_with_particles_by_default() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("out.txt");
-    let normal = shared("assignment/normal.txt");
+    let normal = shared!("assignment/normal.txt");
     let normal = normal.to_str().unwrap();
     crate::support::ok_stdout(&run(
         "edmd",
@@ -1108,7 +1109,7 @@ fn runs_whose_clock_stops_fail_naming_the_discs() {
     );
 }
 
-// 10, found again in the eighth session: the same lattice and column of touching discs with
+// 10, found again by a review: the same lattice and column of touching discs with
 // random velocities (radius 0.025 in the unit box) collide across gaps of rounding size, so the
 // clock crept (1e-12 after 8 million events) and `run` and `particles` never finished. They now
 // stop as the runs above do.
@@ -1177,7 +1178,7 @@ fn multi_disc_collisions_at_extreme_mass_ratios_fail_saying_why() {
     assert_eq!(names(dir.path()), ["pinch.txt"]);
 }
 
-/// Found by a new user's walk through 3D (fourteenth session): an output that could never be
+/// Found by a new user's walk through 3D : an output that could never be
 /// written was found only when it was written, after the work: `-o newdir/` (a folder that
 /// does not exist, by its trailing `/`) after the whole run; `--checkpoint newd/` or a
 /// checkpoint in a missing folder when the first one fell due (for `edmd pack`, never in a
@@ -1328,7 +1329,7 @@ fn outputs_that_could_never_be_written_are_refused_before_any_work() {
     );
 }
 
-/// Found by a new user's walk through 3D (fourteenth session): `edmd render` drew a 3D file's
+/// Found by a new user's walk through 3D : `edmd render` drew a 3D file's
 /// slice when given both `--view` and `--slice`, and a 2D file as always when given `--view`,
 /// saying nothing of the option it dropped. Both are now refused before any work.
 #[test]
@@ -1361,7 +1362,7 @@ fn render_options_that_cannot_both_apply_are_refused() {
     assert!(String::from_utf8_lossy(&one.stdout).starts_with("1 frame of "));
 }
 
-/// Found by a new user's walk through 3D (fourteenth session): the limit of a million frames,
+/// Found by a new user's walk through 3D : the limit of a million frames,
 /// samples or checkpoints was counted from t = 0, so a file at `# edmd time 1000000` could not
 /// be run to 1000010 with frames every 0.5 (20 frames). It is now counted from the run's start.
 #[test]

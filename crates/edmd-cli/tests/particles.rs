@@ -4,8 +4,8 @@ use crate::support::{ok_stdout, run, shared, write};
 
 #[test]
 fn normal_txt_at_t20_matches_the_course_output_byte_for_byte() {
-    let input = shared("assignment/normal.txt");
-    let expected = std::fs::read_to_string(shared("assignment/normal_T20_expected.txt")).unwrap();
+    let input = shared!("assignment/normal.txt");
+    let expected = std::fs::read_to_string(shared!("assignment/normal_T20_expected.txt")).unwrap();
     let out = run("particles", &[input.to_str().unwrap(), "20"], None);
     assert_eq!(ok_stdout(&out), expected);
     assert!(out.stderr.is_empty());

@@ -4,7 +4,7 @@ use crate::support::{example, ok_stdout, run, shared, summary, write};
 
 #[test]
 fn all_princeton_data_files_load_and_run() {
-    let dir = shared("algs4");
+    let dir = shared!("algs4");
     let mut names: Vec<String> = std::fs::read_dir(&dir)
         .unwrap()
         .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
@@ -63,7 +63,7 @@ fn refusals_name_the_first_offending_line_and_the_count() {
         "edmd",
         &[
             "run",
-            shared("algs4/diffusion3.txt").to_str().unwrap(),
+            shared!("algs4/diffusion3.txt").to_str().unwrap(),
             "--until",
             "1",
         ],
@@ -80,7 +80,7 @@ fn refusals_name_the_first_offending_line_and_the_count() {
         "edmd",
         &[
             "run",
-            shared("algs4/billiards-overflow.txt").to_str().unwrap(),
+            shared!("algs4/billiards-overflow.txt").to_str().unwrap(),
             "--until",
             "1",
         ],
@@ -101,7 +101,7 @@ fn rounding_level_contacts_in_real_files_are_accepted() {
             "edmd",
             &[
                 "run",
-                shared(&format!("algs4/{name}")).to_str().unwrap(),
+                shared!(&format!("algs4/{name}")).to_str().unwrap(),
                 "--until",
                 "1",
             ],
@@ -180,7 +180,7 @@ fn output_is_written_in_the_input_format_and_chains() {
 fn course_format_is_detected_and_written_back() {
     let dir = tempfile::tempdir().unwrap();
     let out_path = dir.path().join("out.txt");
-    let input = shared("assignment/normal.txt");
+    let input = shared!("assignment/normal.txt");
     let out = run(
         "edmd",
         &[
@@ -200,7 +200,7 @@ fn course_format_is_detected_and_written_back() {
     let lines: Vec<&str> = text.lines().collect();
     assert_eq!(&lines[..3], &["5", "1.0", "15.1 13.2"]);
     // Same final positions as the course program's expected output.
-    let expected = std::fs::read_to_string(shared("assignment/normal_T20_expected.txt")).unwrap();
+    let expected = std::fs::read_to_string(shared!("assignment/normal_T20_expected.txt")).unwrap();
     for (l, e) in lines[3..].iter().zip(expected.lines()) {
         let x: Vec<f64> = l.split_whitespace().map(|v| v.parse().unwrap()).collect();
         assert_eq!(
@@ -448,7 +448,7 @@ fn measurements_write_csv_files_and_join_the_summary() {
 fn a_closed_pipe_is_not_a_panic() {
     use std::process::{Command, Stdio};
     let mut child = Command::new(env!("CARGO_BIN_EXE_particles"))
-        .args([shared("assignment/normal.txt").to_str().unwrap(), "20"])
+        .args([shared!("assignment/normal.txt").to_str().unwrap(), "20"])
         .stdout(Stdio::piped())
         .stderr(Stdio::piped())
         .spawn()

@@ -4,7 +4,7 @@ use std::path::PathBuf;
 
 use anyhow::Result;
 use clap::{Parser, ValueEnum};
-use edmd_cli::input::{build, load, load_any, read_text};
+use edmd_cli::input::{build, load, read_any, read_text};
 use edmd_cli::user_error;
 use edmd_core::setup::generators::{generate, GenKind};
 use edmd_core::{Boundary, Options, Simulation};
@@ -159,8 +159,7 @@ impl ViewArgs {
             return self.generated(kind).map(AnySimulation::Two);
         }
         let path = self.file.as_deref().unwrap_or("-");
-        let text = read_text(path)?;
-        match load_any(path, &text, None, ColumnOrder::RadiusMass)? {
+        match read_any(path, None, ColumnOrder::RadiusMass, None)? {
             edmd_io::AnyLoaded::Two(sys) => {
                 build(path, &sys, Options::default()).map(AnySimulation::Two)
             }

@@ -19,7 +19,8 @@ use crate::commands::experiment::common::write_csv;
 pub enum Measure {
     /// Temperature over time: kT = sum m v^2 / 2N.
     Temperature,
-    /// Pressure from wall impulses and from the collision virial, and Z = PA/(NkT).
+    /// Pressure from wall impulses and from the collision virial, and Z = PA/(NkT) (PV/(NkT)
+    /// for spheres).
     Pressure,
     /// Collision frequency; free path and free time histograms and means.
     Collisions,
@@ -77,11 +78,17 @@ impl<const D: usize> Measurements<D> {
             .iter()
             .cloned()
             .fold(f64::INFINITY, f64::min);
+        // The histograms need finite positive ranges; a system with no disc, none moving, or
+        // masses or a box at the ends of the floating-point range gives none, and then the
+        // unit range stands in (the histograms are empty or hold only zeros anyway).
+        let range = |x: f64| if x.is_finite() && x > 0.0 { x } else { 1.0 };
+        let (max_path, max_time, max_speed) = (range(l), range(l / v_scale), range(5.0 * v_scale));
         Measurements {
             temperature: has(Measure::Temperature).then(Temperature::new),
             pressure: has(Measure::Pressure).then(|| Pressure::new(sim)),
-            collisions: has(Measure::Collisions).then(|| Collisions::new(sim, 50, l, l / v_scale)),
-            speeds: has(Measure::Speeds).then(|| Speeds::new(40, 5.0 * v_scale)),
+            collisions: has(Measure::Collisions)
+                .then(|| Collisions::new(sim, 50, max_path, max_time)),
+            speeds: has(Measure::Speeds).then(|| Speeds::new(40, max_speed)),
             msd: has(Measure::Msd).then(|| Diffusion::new(sim)),
             species: has(Measure::Species).then(|| SpeciesHalves::new(sim, 0)),
         }
@@ -173,16 +180,25 @@ impl<const D: usize> Measurements<D> {
             );
             let s = m.summary();
             let est = |e: &edmd_core::measure::Estimate| json!({"value": e.value, "error": e.error, "blocks": e.blocks});
-            out.insert(
-                "pressure".into(),
-                json!({"kT": s.kt, "area": s.area, "effective_area": s.effective_area, "virial": est(&s.virial),
-                       "wall": s.wall.as_ref().map(est), "Z": est(&s.z), "Z_wall": s.z_wall.as_ref().map(est)}),
-            );
+            let mut j = json!({"kT": s.kt, "virial": est(&s.virial),
+                       "wall": s.wall.as_ref().map(est), "Z": est(&s.z), "Z_wall": s.z_wall.as_ref().map(est)});
+            // The box's measure: an area in 2D (the names stay as they were), a volume in 3D.
+            let size = if D == 3 { "volume" } else { "area" };
+            j[size] = json!(s.area);
+            j[format!("effective_{size}")] = json!(s.effective_area);
+            out.insert("pressure".into(), j);
         }
         if let Some(m) = &self.collisions {
             csv(
                 "collision_frequency.csv",
-                &["time", "collisions_per_disc_per_time"],
+                &[
+                    "time",
+                    if D == 3 {
+                        "collisions_per_sphere_per_time"
+                    } else {
+                        "collisions_per_disc_per_time"
+                    },
+                ],
                 m.frequency_series()
                     .iter()
                     .map(|&(t, f)| vec![t, f])

@@ -21,7 +21,7 @@ use edmd_core::{Options, OverlapPolicy, Simulation};
 use edmd_draw::{draw3_into, draw_into, rgba, Colouring, Pixmap, Scene, Scene3, View};
 
 use crate::args::{parse_positive, parse_time};
-use crate::input::{build, load_any, read_text};
+use crate::input::{build, read_any};
 use crate::output::AtomicFile;
 use crate::user_error;
 
@@ -246,13 +246,12 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         &[("the input file", Path::new(&args.file))],
         &[("--output", &args.output)],
     )?;
-    let text = read_text(&args.file)?;
     let colouring = match args.colour {
         ColourArg::File => Colouring::File,
         ColourArg::Speed => Colouring::Speed,
         ColourArg::Species => Colouring::Species,
     };
-    match load_any(&args.file, &text, None, Default::default())? {
+    match read_any(&args.file, None, Default::default(), None)? {
         edmd_io::AnyLoaded::Two(sys) => {
             if args.slice.is_some() || args.view.is_some() {
                 let what = if args.slice.is_some() {
@@ -334,6 +333,7 @@ fn render_in<const D: usize>(
         sim.start_at(t0)
             .or_else(|e| user_error(format!("{}: {e}", args.file)))?;
     }
+    crate::check_until(&sim, &args.file, args.until)?;
     let (w, h) = args.size;
     crate::commands::experiment::common::install_ctrlc();
     let mut sink = match kind {
@@ -365,13 +365,17 @@ fn render_in<const D: usize>(
     let delay = (100.0 / args.fps).round().max(1.0) as u16;
     for k in 0..frames {
         if crate::commands::experiment::common::stop_requested() {
-            anyhow::bail!("interrupted at frame {k} of {frames}: nothing written");
+            return crate::interrupted(format!(
+                "interrupted at frame {k} of {frames}: nothing written"
+            ));
         }
         let t = t0 + (k as f64 * args.time_scale / args.fps).min(span);
         // Frames far apart in simulated time can take minutes each: the stop flag is also
         // looked at while running to the frame.
         if !crate::run_until_or_stop(&mut sim, t, &mut ())? {
-            anyhow::bail!("interrupted before frame {k} of {frames}: nothing written");
+            return crate::interrupted(format!(
+                "interrupted before frame {k} of {frames}: nothing written"
+            ));
         }
         picture(&sim, &mut pixmap);
         match &mut sink {

@@ -15,7 +15,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::args::{ColumnsArg, FormatArg, RuleArg, RunArgs};
 use crate::commands::measurements::{Measure, Measurements};
-use crate::input::{build, load_any, read_text};
+use crate::input::{build, read_any};
 use crate::output::{
     check_distinct, check_file_destinations, check_folder_destination, AtomicFile,
 };
@@ -60,24 +60,12 @@ pub struct Summary {
 pub fn run(args: &RunArgs) -> Result<()> {
     check_options(args)?;
     if let Some(bytes) = read_checkpoint(Path::new(&args.file))? {
-        if args.columns.is_some()
-            || args.format != FormatArg::Auto
-            || args.rule.is_some()
-            || args.multi
-            || args.allow_overlaps
-        {
-            return user_error(format!(
-                "{}: a checkpoint carries its run's options: drop --format, --columns, --rule, --multi and --allow-overlaps",
-                args.file
-            ));
-        }
         return match edmd_core::checkpoint_dim(&bytes) {
             Ok(3) => resume::<3>(args, &bytes),
             Ok(_) => resume::<2>(args, &bytes),
             Err(e) => user_error(format!("{}: {e}", args.file)),
         };
     }
-    let text = read_text(&args.file)?;
     let order = match args.columns {
         None | Some(ColumnsArg::RadiusMass) => ColumnOrder::RadiusMass,
         Some(ColumnsArg::MassRadius) => ColumnOrder::MassRadius,
@@ -87,7 +75,7 @@ pub fn run(args: &RunArgs) -> Result<()> {
         FormatArg::Course => Some(Format::Course),
         FormatArg::Princeton => Some(Format::Princeton(order)),
     };
-    match load_any(&args.file, &text, format, order)? {
+    match read_any(&args.file, format, order, args.frame)? {
         edmd_io::AnyLoaded::Two(sys) => run_in(args, sys),
         edmd_io::AnyLoaded::Three(sys) => run_in(args, sys),
     }
@@ -209,6 +197,7 @@ fn resume<const D: usize>(args: &RunArgs, bytes: &[u8]) -> Result<()> {
     let Some((format, measuring)) = read_extra::<D>(&extra) else {
         return unreadable();
     };
+    check_carried(args, &sim, format)?;
     let measuring = match measuring {
         Some(m) if !m.fits(&sim) => return unreadable(),
         Some(m) => {
@@ -217,14 +206,15 @@ fn resume<const D: usize>(args: &RunArgs, bytes: &[u8]) -> Result<()> {
             asked.dedup();
             if !args.measure.is_empty() && asked != m.which {
                 return user_error(format!(
-                    "{}: the checkpoint goes on measuring {}: give those with --measure, or none",
+                    "{}: --measure {} differs from the checkpoint's run (--measure {}), which goes on measuring: give those with --measure, or none",
                     args.file,
+                    names(&asked),
                     names(&m.which)
                 ));
             }
-            if args.sample_every.is_some_and(|dt| dt != m.every) {
+            if let Some(dt) = args.sample_every.filter(|dt| *dt != m.every) {
                 return user_error(format!(
-                    "{}: the checkpoint samples every {}: give that --sample-every, or none",
+                    "{}: --sample-every {dt:?} differs from the checkpoint's run, which samples every {:?}: give that --sample-every, or none",
                     args.file, m.every
                 ));
             }
@@ -242,6 +232,99 @@ fn resume<const D: usize>(args: &RunArgs, bytes: &[u8]) -> Result<()> {
         ));
     }
     execute(args, sim, format, measuring)
+}
+
+/// Accepts the options a checkpoint carries when they are given again with the same value (the
+/// same command line run again after a crash) and refuses a different value, naming the option
+/// and both values. `--allow-overlaps` only decides how a file's discs are let in, which a
+/// checkpoint's state has been already, so it changes nothing here and is accepted.
+fn check_carried<const D: usize>(
+    args: &RunArgs,
+    sim: &Simulation<D>,
+    format: Format,
+) -> Result<()> {
+    let differs = |option: String, carried: String| {
+        user_error(format!(
+            "{}: {option} differs from the checkpoint's run ({carried}): a checkpoint carries its run's options; drop {}",
+            args.file,
+            option.split(' ').next().unwrap_or_default()
+        ))
+    };
+    let carried_format = match format {
+        Format::Course => "course",
+        Format::Princeton(_) => "princeton",
+    };
+    match (args.format, format) {
+        (FormatArg::Auto, _)
+        | (FormatArg::Course, Format::Course)
+        | (FormatArg::Princeton, Format::Princeton(_)) => {}
+        (given, _) => {
+            return differs(
+                format!("--format {}", value_name(given)),
+                format!("--format {carried_format}"),
+            )
+        }
+    }
+    if let Some(columns) = args.columns {
+        let want = match columns {
+            ColumnsArg::RadiusMass => ColumnOrder::RadiusMass,
+            ColumnsArg::MassRadius => ColumnOrder::MassRadius,
+        };
+        match format {
+            Format::Princeton(order) if order == want => {}
+            Format::Princeton(order) => {
+                let carried = match order {
+                    ColumnOrder::RadiusMass => ColumnsArg::RadiusMass,
+                    ColumnOrder::MassRadius => ColumnsArg::MassRadius,
+                };
+                return differs(
+                    format!("--columns {}", value_name(columns)),
+                    format!("--columns {}", value_name(carried)),
+                );
+            }
+            Format::Course => {
+                return differs(
+                    format!("--columns {}", value_name(columns)),
+                    "a course file, which has no columns option".into(),
+                )
+            }
+        }
+    }
+    if let Some(rule) = args.rule {
+        let carried = match sim.rule() {
+            CollisionRule::Elastic => RuleArg::Elastic,
+            CollisionRule::Swap => RuleArg::Swap,
+        };
+        if rule != carried {
+            return differs(
+                format!("--rule {}", value_name(rule)),
+                format!("--rule {}", value_name(carried)),
+            );
+        }
+    }
+    if args.multi {
+        match sim.multi() {
+            Some(mc) if mc == MultiContact::default() => {}
+            Some(mc) => {
+                return differs(
+                    "--multi (tolerance 1e-3, exponent 1.5)".into(),
+                    format!(
+                        "multi-disc contacts with tolerance {:e}, exponent {}",
+                        mc.tolerance, mc.exponent
+                    ),
+                )
+            }
+            None => return differs("--multi".into(), "binary collisions, no --multi".into()),
+        }
+    }
+    Ok(())
+}
+
+/// The name of an option's value, as the command line spells it.
+fn value_name(v: impl clap::ValueEnum) -> String {
+    v.to_possible_value()
+        .map(|p| p.get_name().to_string())
+        .unwrap_or_default()
 }
 
 /// The format and the measurements kept in a checkpoint's extra bytes; `None` when they cannot
@@ -358,7 +441,12 @@ fn execute<const D: usize>(
     measuring: Option<Measuring<D>>,
 ) -> Result<()> {
     let start_time = sim.time();
+    crate::check_until(&sim, &args.file, args.until)?;
     check_stops(args, start_time)?;
+    if let Some(m) = &measuring {
+        check_samples(args, m)?;
+    }
+    check_trajectory_size(args, &sim)?;
     let start_collisions = sim.stats().disc_disc;
     // Create outputs before the run so that an unwritable path fails at once, not after it.
     let mut out_file = match args.output.as_deref() {
@@ -405,6 +493,7 @@ fn execute<const D: usize>(
         .map(|dt| first(dt, true))
         .unwrap_or(0.0);
     let mut next_ck = args.checkpoint_every.map(|dt| ck_k * dt);
+    let mut last_checkpoint: Option<(f64, &Path)> = None;
     loop {
         let next_sample = sample_dt
             .map(|_| m.next_sample())
@@ -416,7 +505,9 @@ fn execute<const D: usize>(
         if next > args.until {
             break;
         }
-        run_to(&mut sim, next, &progress, &mut m.obs, &args.file)?;
+        if !run_to(&mut sim, next, &progress, &mut m.obs, &args.file)? {
+            return stopped(&sim, last_checkpoint);
+        }
         if next_frame == Some(next) {
             let t = traj.as_mut().expect("frames only with a trajectory");
             edmd_io::xyz::write_frame(t.writer(), &sim.discs(), sim.sim_box(), next)?;
@@ -431,12 +522,15 @@ fn execute<const D: usize>(
         if next_ck == Some(next) {
             if let Some(p) = &args.checkpoint {
                 write_checkpoint(p, &checkpoint_bytes(&sim, format, Some(&m))?)?;
+                last_checkpoint = Some((sim.time(), p.as_path()));
             }
             ck_k += 1.0;
             next_ck = args.checkpoint_every.map(|dt| ck_k * dt);
         }
     }
-    run_to(&mut sim, args.until, &progress, &mut m.obs, &args.file)?;
+    if !run_to(&mut sim, args.until, &progress, &mut m.obs, &args.file)? {
+        return stopped(&sim, last_checkpoint);
+    }
     if let Some(p) = &args.checkpoint {
         write_checkpoint(p, &checkpoint_bytes(&sim, format, Some(&m))?)?;
     }
@@ -498,10 +592,12 @@ fn execute<const D: usize>(
         write_state(&mut out)?;
         out.flush()?;
     }
-    let (measured, files) = if m.which.is_empty() {
-        (serde_json::Value::Null, Vec::new())
-    } else {
-        m.obs.finish(&sim, measure_dir(args))?
+    // The CSV files only where the user asked for them: without --out-dir the results are
+    // only in the summary.
+    let (measured, files) = match measure_dir(args) {
+        _ if m.which.is_empty() => (serde_json::Value::Null, Vec::new()),
+        Some(dir) => m.obs.finish(&sim, dir)?,
+        None => (m.obs.results(&sim).0, Vec::new()),
     };
     let text = if args.json {
         let mut v = serde_json::to_value(&summary)?;
@@ -516,10 +612,14 @@ fn execute<const D: usize>(
                 "\nmeasurements: {}",
                 serde_json::to_string_pretty(&measured)?
             );
-            t += &format!(
-                "\n{}",
-                crate::commands::experiment::common::files_line(&files)
-            );
+            t += &if files.is_empty() {
+                "\nno files written (--out-dir DIR writes the time series as CSV files)".to_string()
+            } else {
+                format!(
+                    "\n{}",
+                    crate::commands::experiment::common::files_line(&files)
+                )
+            };
         }
         t
     };
@@ -529,6 +629,20 @@ fn execute<const D: usize>(
         crate::print_line(&text);
     }
     Ok(())
+}
+
+/// Ends a run stopped by a signal: exit status 130 and one line saying where it stopped and
+/// what was kept (the last checkpoint written on the way, if any).
+fn stopped<const D: usize>(sim: &Simulation<D>, checkpoint: Option<(f64, &Path)>) -> Result<()> {
+    let kept = match checkpoint {
+        Some((t, p)) => format!(
+            "nothing written but the checkpoint at t = {t} in {} (edmd run {} --until T continues it)",
+            p.display(),
+            p.display()
+        ),
+        None => "nothing written".to_string(),
+    };
+    crate::interrupted(format!("interrupted at t = {}: {kept}", sim.time()))
 }
 
 /// Writes a checkpoint of `sim` to `path`, replacing the previous one atomically (a kill at any
@@ -596,13 +710,76 @@ fn check_stops(args: &RunArgs, start: f64) -> Result<()> {
     Ok(())
 }
 
+/// Refuses to go on with measurements read from a checkpoint when they would take more than
+/// [`MAX_STOPS`] samples in all by `--until`: the samples are kept in memory from the run's
+/// start, so the first leg's limit counts from there on every leg too.
+fn check_samples<const D: usize>(args: &RunArgs, m: &Measuring<D>) -> Result<()> {
+    let total = (args.until - m.start) / m.every;
+    if !m.which.is_empty() && total > MAX_STOPS {
+        return user_error(format!(
+            "{}: the checkpoint's measurements sample every {:?} from t = {}: {total:.3e} samples by --until {} is too many (at most {MAX_STOPS:.0}): give --until at most {:e}",
+            args.file,
+            m.every,
+            m.start,
+            args.until,
+            m.start + MAX_STOPS * m.every
+        ));
+    }
+    Ok(())
+}
+
+/// The most bytes a `--trajectory` may take (100 GB). A run longer than that can write its
+/// trajectory in parts, a leg at a time, through checkpoints.
+pub const MAX_TRAJECTORY_BYTES: f64 = 1e11;
+
+/// Refuses a `--trajectory` whose frames would take more than [`MAX_TRAJECTORY_BYTES`],
+/// estimated before any work as the number of frames times the size of the first (written to
+/// a counter, not a file): every frame has the same lines, with numbers of about the same
+/// length.
+fn check_trajectory_size<const D: usize>(args: &RunArgs, sim: &Simulation<D>) -> Result<()> {
+    let (Some(path), Some(every)) = (&args.trajectory, args.every) else {
+        return Ok(());
+    };
+    let start = sim.time();
+    let frames = ((args.until / every).floor() - (start / every).ceil() + 1.0).max(0.0);
+    if frames == 0.0 {
+        return Ok(());
+    }
+    struct Count(u64);
+    impl Write for Count {
+        fn write(&mut self, b: &[u8]) -> std::io::Result<usize> {
+            self.0 += b.len() as u64;
+            Ok(b.len())
+        }
+        fn flush(&mut self) -> std::io::Result<()> {
+            Ok(())
+        }
+    }
+    let mut count = Count(0);
+    // A species the format cannot name fails here as it would at the first frame.
+    edmd_io::xyz::write_frame(&mut count, &sim.discs(), sim.sim_box(), start)
+        .or_else(|e| user_error(format!("--trajectory {}: {e}", path.display())))?;
+    let bytes = frames * count.0 as f64;
+    if bytes > MAX_TRAJECTORY_BYTES {
+        return user_error(format!(
+            "--trajectory {}: about {bytes:.2e} bytes ({frames:.0} frames of {} bytes) is more than a trajectory may take ({MAX_TRAJECTORY_BYTES:.0e} bytes, 100 GB): raise --every or write it in parts through --checkpoint",
+            path.display(),
+            count.0
+        ));
+    }
+    Ok(())
+}
+
 /// Checks that no output (the final state, the trajectory, the CSV files of the measurements
 /// `which`, the checkpoint) is the input or another output.
 fn check_outputs(args: &RunArgs, which: &[Measure]) -> Result<()> {
-    let csvs: Vec<PathBuf> = which
-        .iter()
-        .flat_map(|m| m.files().iter().map(|f| measure_dir(args).join(f)))
-        .collect();
+    let csvs: Vec<PathBuf> = match measure_dir(args) {
+        Some(dir) => which
+            .iter()
+            .flat_map(|m| m.files().iter().map(|f| dir.join(f)))
+            .collect(),
+        None => Vec::new(),
+    };
     let mut outputs: Vec<(&str, &Path)> = Vec::new();
     if let Some(o) = args.output.as_deref() {
         outputs.push(("--output", Path::new(o)));
@@ -635,15 +812,16 @@ fn check_outputs(args: &RunArgs, which: &[Measure]) -> Result<()> {
         .filter(|(_, path)| !csvs.iter().any(|c| c == path))
         .collect();
     check_file_destinations(&files)?;
-    if !csvs.is_empty() {
-        check_folder_destination("--out-dir", measure_dir(args))?;
+    if let (false, Some(dir)) = (csvs.is_empty(), measure_dir(args)) {
+        check_folder_destination("--out-dir", dir)?;
     }
     Ok(())
 }
 
-/// The folder for the measurements' CSV files.
-fn measure_dir(args: &RunArgs) -> &Path {
-    args.measure_dir.as_deref().unwrap_or(Path::new("."))
+/// The folder for the measurements' CSV files: only the one the user named (`--out-dir`), for
+/// no file is written that the user did not ask for.
+fn measure_dir(args: &RunArgs) -> Option<&Path> {
+    args.measure_dir.as_deref()
 }
 
 /// Whether two paths name the same existing file.
@@ -675,7 +853,11 @@ fn human(s: &Summary) -> String {
         t += &format!("\nbarriers: {} events", s.barrier_events);
     }
     if s.discs_moved_into_box > 0 {
-        t += &format!("\nmoved into the box: {} disc(s)", s.discs_moved_into_box);
+        t += &format!(
+            "\nmoved into the box: {} {}(s)",
+            s.discs_moved_into_box,
+            if s.dim == 3 { "sphere" } else { "disc" }
+        );
     }
     if s.frames > 0 {
         t += &format!("\ntrajectory: {} frames", s.frames);
@@ -684,16 +866,17 @@ fn human(s: &Summary) -> String {
 }
 
 /// Runs to time `t`, updating the progress bar, in chunks of events so that Ctrl-C is noticed
-/// (then the run is abandoned: nothing is written, temporary files are removed). Positions
-/// are computed on demand, so stopping between chunks does not change the trajectory. A run
-/// whose clock stops advancing fails the same way, naming the discs (`file` names the input).
+/// (then it returns `false` and the run is abandoned: nothing more is written, temporary files
+/// are removed). Positions are computed on demand, so stopping between chunks does not change
+/// the trajectory. A run whose clock stops advancing fails, naming the discs (`file` names the
+/// input).
 fn run_to<const D: usize, O: Observer<D>>(
     sim: &mut Simulation<D>,
     t: f64,
     progress: &Option<indicatif::ProgressBar>,
     obs: &mut O,
     file: &str,
-) -> Result<()> {
+) -> Result<bool> {
     const CHUNK: u64 = crate::STOP_CHECK_EVENTS;
     loop {
         let more = sim.run_events_to(t, CHUNK, obs) == CHUNK;
@@ -706,14 +889,14 @@ fn run_to<const D: usize, O: Observer<D>>(
             pb.set_position((sim.time() / until * total) as u64);
         }
         if crate::commands::experiment::common::stop_requested() {
-            anyhow::bail!("interrupted at t = {}: nothing written", sim.time());
+            return Ok(false);
         }
         if !more {
             break;
         }
     }
     sim.run_until(t, obs);
-    Ok(())
+    Ok(true)
 }
 
 fn progress_bar(until: f64) -> Option<indicatif::ProgressBar> {
@@ -733,17 +916,22 @@ fn progress_bar(until: f64) -> Option<indicatif::ProgressBar> {
 
 /// Fails if any disc overlaps another or leaves the box.
 pub fn check<const D: usize>(sim: &Simulation<D>) -> Result<()> {
+    let (one, many) = if D == 3 {
+        ("sphere", "spheres")
+    } else {
+        ("disc", "discs")
+    };
     let o = sim.overlaps(OVERLAP_TOLERANCE);
     if let Some((i, j, ov)) = o.first {
         anyhow::bail!(
-            "check failed: discs {i} and {j} overlap by {ov:.3e} ({} pairs)",
+            "check failed: {many} {i} and {j} overlap by {ov:.3e} ({} pairs)",
             o.count
         );
     }
     let out = sim.discs_outside(OVERLAP_TOLERANCE);
     if let Some(i) = out.first() {
         anyhow::bail!(
-            "check failed: disc {i} is outside the box ({} discs)",
+            "check failed: {one} {i} is outside the box ({} {many})",
             out.len()
         );
     }

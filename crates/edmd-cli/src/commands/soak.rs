@@ -165,7 +165,6 @@ fn soak<const D: usize>(args: &SoakArgs) -> Result<()> {
     let mut sim = Simulation::new(&discs, sim_box, Options::default())
         .or_else(|e| user_error(format!("soak: {e}")))?;
     drop(discs);
-    crate::commands::experiment::common::install_ctrlc();
     let e0 = sim.kinetic_energy();
     let p0 = sim.momentum();
     // sqrt(N m kT) with kT = 2E/(D N): the size of one thermal momentum fluctuation.
@@ -179,11 +178,18 @@ fn soak<const D: usize>(args: &SoakArgs) -> Result<()> {
         let target = (args.collisions as u128 * k as u128 / args.checks as u128) as u64;
         while sim.stats().disc_disc < target {
             if crate::commands::experiment::common::stop_requested() {
-                return user_error("soak: interrupted");
+                return crate::interrupted(format!(
+                    "soak: interrupted at {} collisions, after {} of {} checks (all passed)",
+                    sim.stats().disc_disc,
+                    k - 1,
+                    args.checks
+                ));
             }
             let left = target - sim.stats().disc_disc;
-            // A clock that stops is an error here too (named discs, exit status 2).
-            crate::run_events(&mut sim, left.clamp(1, 1 << 20))?;
+            // A clock that stops is an error here too (named discs, exit status 2). Slices of
+            // STOP_CHECK_EVENTS so that a signal is heeded within a fraction of a second even
+            // for millions of spheres, where each event misses the caches.
+            crate::run_events(&mut sim, left.clamp(1, crate::STOP_CHECK_EVENTS))?;
         }
         let reading = read(&sim, e0, p0, p_scale);
         max_e = max_e.max(reading.energy_drift);

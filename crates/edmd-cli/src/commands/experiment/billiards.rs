@@ -15,7 +15,7 @@ use edmd_core::{Disc, MultiContact, Options, SimBox, Simulation, Vector};
 use edmd_plot::{Figure, Series};
 use serde::Serialize;
 
-use super::common::{files_line, out_dir, report, write_csv, CommonArgs};
+use super::common::{files_line, interrupted_after, out_dir, report, write_csv, CommonArgs};
 use crate::user_error;
 
 /// Options of `edmd experiment billiards`.
@@ -61,6 +61,8 @@ pub struct Summary {
     pub balls: usize,
     /// The two breaks.
     pub breaks: Vec<Break>,
+    /// True if stopped by Ctrl-C before both breaks were followed to the end.
+    pub interrupted: bool,
 }
 
 const R: f64 = 0.025;
@@ -122,7 +124,8 @@ pub fn run(args: &BilliardsArgs) -> Result<()> {
     let strike = (0.6 - 0.15 - 2.0 * R) / 0.5;
     let mut breaks = Vec::new();
     let mut files = Vec::new();
-    for (model, multi) in [
+    let mut interrupted = false;
+    'models: for (model, multi) in [
         (
             "multi",
             Some(MultiContact {
@@ -141,7 +144,10 @@ pub fn run(args: &BilliardsArgs) -> Result<()> {
             },
         )?;
         let e0 = sim.kinetic_energy();
-        crate::run_until(&mut sim, strike + 0.02, &mut ())?;
+        if !crate::run_until_or_stop(&mut sim, strike + 0.02, &mut ())? {
+            interrupted = true;
+            break;
+        }
         let mismatch = twins
             .iter()
             .enumerate()
@@ -160,7 +166,11 @@ pub fn run(args: &BilliardsArgs) -> Result<()> {
         let mut rows = Vec::new();
         for k in 0..=steps {
             let t = strike - 0.2 + (args.follow + 0.2) * k as f64 / steps as f64;
-            crate::run_until(&mut sim, t, &mut ())?;
+            // A long --follow can take hours between two steps.
+            if !crate::run_until_or_stop(&mut sim, t, &mut ())? {
+                interrupted = true;
+                break 'models;
+            }
             for (i, p) in paths.iter_mut().enumerate() {
                 let q = sim.position(i);
                 p.push((q[0], q[1]));
@@ -218,6 +228,9 @@ pub fn run(args: &BilliardsArgs) -> Result<()> {
             b.model, b.mirror_mismatch, b.moving, b.relative_energy_change
         );
     }
+    if interrupted {
+        human += "interrupted: results so far\n";
+    }
     human += &files_line(&files);
     report(
         &args.common,
@@ -225,7 +238,12 @@ pub fn run(args: &BilliardsArgs) -> Result<()> {
             experiment: "billiards",
             balls: discs.len(),
             breaks,
+            interrupted,
         },
         &human,
-    )
+    )?;
+    if interrupted {
+        return interrupted_after(&files);
+    }
+    Ok(())
 }

@@ -14,7 +14,8 @@ use edmd_plot::{Figure, Series};
 use serde::Serialize;
 
 use super::common::{
-    check_n, files_line, out_dir, report, stop_requested, write_csv, CommonArgs, Progress,
+    check_n, files_line, interrupted_after, out_dir, report, stop_requested, write_csv, CommonArgs,
+    Progress,
 };
 
 /// Options of `edmd experiment brownian`.
@@ -80,12 +81,17 @@ pub fn run(args: &BrownianArgs) -> Result<()> {
     let big = 0;
     let dt = args.until / args.samples as f64;
     let mut path = vec![(0.0, sim.position(big))];
+    let mut stopped = false;
     let progress = Progress::new(args.samples as u64, "brownian");
     for k in 1..=args.samples {
         if stop_requested() {
+            stopped = true;
             break;
         }
-        crate::run_until(&mut sim, k as f64 * dt, &mut ())?;
+        if !crate::run_until_or_stop(&mut sim, k as f64 * dt, &mut ())? {
+            stopped = true;
+            break;
+        }
         path.push((sim.time(), sim.position(big)));
         progress.set(k as u64);
     }
@@ -153,11 +159,16 @@ pub fn run(args: &BrownianArgs) -> Result<()> {
         ],
         net_displacement: net,
         relative_energy_change: (sim.kinetic_energy() - e0) / e0,
-        interrupted: sim.time() < args.until,
+        interrupted: stopped,
     };
+    let files = [csv, msd_csv, png, svg, png2, svg2];
     let human = format!(
         "Brownian motion of one big disc among {} small ones, to t = {}:\n  diffusion coefficient D = {:.4e} (MSD = 4 D tau + c over tau in [{:.0}, {:.0}])\n  net displacement {:.4}\n{}",
-        args.n, summary.time, d, summary.fit_range[0], summary.fit_range[1], net, files_line(&[csv, msd_csv, png, svg, png2, svg2])
+        args.n, summary.time, d, summary.fit_range[0], summary.fit_range[1], net, files_line(&files)
     );
-    report(&args.common, &summary, &human)
+    report(&args.common, &summary, &human)?;
+    if summary.interrupted {
+        return interrupted_after(&files);
+    }
+    Ok(())
 }

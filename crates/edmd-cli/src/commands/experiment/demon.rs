@@ -16,7 +16,8 @@ use edmd_plot::{Figure, Series};
 use serde::Serialize;
 
 use super::common::{
-    check_n, files_line, out_dir, report, stop_requested, write_csv, CommonArgs, Progress,
+    check_n, files_line, interrupted_after, out_dir, report, stop_requested, write_csv, CommonArgs,
+    Progress,
 };
 
 /// Options of `edmd experiment demon`.
@@ -147,16 +148,21 @@ pub fn run(args: &DemonArgs) -> Result<()> {
     let (start, _) = sides(&sim, x0);
     let mut series = vec![(0.0, start[0], start[1])];
     let mut watch = Door::default();
+    let mut stopped = false;
     let progress = Progress::new(args.samples as u64, "demon");
     for k in 1..=args.samples {
         if stop_requested() {
+            stopped = true;
             break;
         }
-        crate::run_until(
+        if !crate::run_until_or_stop(
             &mut sim,
             args.until * k as f64 / args.samples as f64,
             &mut watch,
-        )?;
+        )? {
+            stopped = true;
+            break;
+        }
         let (t, _) = sides(&sim, x0);
         series.push((sim.time(), t[0], t[1]));
         progress.set(k as u64);
@@ -201,12 +207,17 @@ pub fn run(args: &DemonArgs) -> Result<()> {
         passed: watch.passed,
         shut: watch.shut,
         relative_energy_change: (sim.kinetic_energy() - e0) / e0,
-        interrupted: sim.time() < args.until,
+        interrupted: stopped,
     };
+    let files = [csv, png, svg];
     let human = format!(
         "Maxwell's demon, {} discs per side, to t = {}:\n  kT left {:.3e} -> {:.3e}, right {:.3e} -> {:.3e} (ratio right/left {:.2})\n  {} discs let through, {} turned back; discs now left/right: {}/{}\n  total energy change {:.1e}\n{}",
         args.n, summary.time, start[0], end[0], start[1], end[1], end[1] / end[0], watch.passed, watch.shut, discs[0], discs[1], summary.relative_energy_change,
-        files_line(&[csv, png, svg])
+        files_line(&files)
     );
-    report(&args.common, &summary, &human)
+    report(&args.common, &summary, &human)?;
+    if summary.interrupted {
+        return interrupted_after(&files);
+    }
+    Ok(())
 }

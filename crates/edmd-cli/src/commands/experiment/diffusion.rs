@@ -14,7 +14,8 @@ use edmd_plot::{Figure, Series};
 use serde::Serialize;
 
 use super::common::{
-    check_n, files_line, out_dir, report, stop_requested, write_csv, CommonArgs, Progress,
+    check_n, files_line, interrupted_after, out_dir, report, stop_requested, write_csv, CommonArgs,
+    Progress,
 };
 
 /// Options of `edmd experiment diffusion`.
@@ -90,12 +91,17 @@ pub fn run(args: &DiffusionArgs) -> Result<()> {
     let first = args.until / args.samples as f64;
     times.extend((0..40).map(|k| (first * 1e-2 * 100f64.powf(k as f64 / 40.0), false)));
     times.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let mut stopped = false;
     let progress = Progress::new(times.len() as u64, "diffusion");
     for (k, &(t, fraction)) in times.iter().enumerate() {
         if stop_requested() {
+            stopped = true;
             break;
         }
-        crate::run_until(&mut sim, t, &mut ())?;
+        if !crate::run_until_or_stop(&mut sim, t, &mut ())? {
+            stopped = true;
+            break;
+        }
         if fraction {
             halves.sample(&sim);
         }
@@ -157,8 +163,9 @@ pub fn run(args: &DiffusionArgs) -> Result<()> {
         mixing_time,
         diffusion_coefficient: fit,
         relative_energy_change: (sim.kinetic_energy() - e0) / e0,
-        interrupted: sim.time() < args.until,
+        interrupted: stopped,
     };
+    let files = [csv, msd_csv, png, svg];
     let human = format!(
         "two gases of {} discs mixing, to t = {}:\n  in the left half at the end: blue {:.3}, green {:.3} (even mix: 0.5)\n  mixed to within 0.1 at t = {}\n  self-diffusion coefficient D = {}\n{}",
         args.n,
@@ -167,7 +174,11 @@ pub fn run(args: &DiffusionArgs) -> Result<()> {
         summary.green_left,
         mixing_time.map_or("(not yet)".into(), |t| format!("{t}")),
         fit.map_or("(not enough samples below the box's cap)".into(), |d| format!("{d:.4e} (MSD = 4 D t + c where MSD < 2% of the box area)")),
-        files_line(&[csv, msd_csv, png, svg])
+        files_line(&files)
     );
-    report(&args.common, &summary, &human)
+    report(&args.common, &summary, &human)?;
+    if summary.interrupted {
+        return interrupted_after(&files);
+    }
+    Ok(())
 }

@@ -17,8 +17,8 @@ use edmd_plot::{Figure, Series};
 use serde::Serialize;
 
 use super::common::{
-    check_n, check_packings, files_line, melted_fluid_in, out_dir, report, stop_requested,
-    write_csv, CommonArgs, Progress,
+    check_n, check_packings, files_line, interrupted_after, melted_fluid_in, out_dir, report,
+    stop_requested, write_csv, CommonArgs, Progress,
 };
 
 /// Options of `edmd experiment eos`.
@@ -138,13 +138,16 @@ fn run_in<const D: usize>(args: &EosArgs) -> Result<()> {
     let progress = Progress::new((args_packing.len() * args.blocks) as u64, "eos");
     let mut results = Vec::new();
     'packings: for (k, &eta) in args_packing.iter().enumerate() {
-        let (mut sim, rate) = melted_fluid_in::<D>(
+        let Some((mut sim, rate)) = melted_fluid_in::<D>(
             args.n,
             eta,
             Boundary::Periodic,
             args.common.seed + k as u64,
             args.melt,
-        )?;
+        )?
+        else {
+            break 'packings;
+        };
         let block = args.measure as f64 / args.blocks as f64 / rate;
         let mut pressure = Pressure::new(&sim);
         let mut collisions = Collisions::new(&sim, 10, 1.0, 1.0);
@@ -155,7 +158,10 @@ fn run_in<const D: usize>(args: &EosArgs) -> Result<()> {
                 break 'packings;
             }
             let t = sim.time() + block;
-            crate::run_until(&mut sim, t, &mut (&mut pressure, &mut collisions))?;
+            // A block can hold billions of collisions (large --n and --collisions).
+            if !crate::run_until_or_stop(&mut sim, t, &mut (&mut pressure, &mut collisions))? {
+                break 'packings;
+            }
             pressure.sample(&sim);
             collisions.sample(&sim);
             progress.set((k * args.blocks + b + 1) as u64);
@@ -252,7 +258,8 @@ fn run_in<const D: usize>(args: &EosArgs) -> Result<()> {
     if interrupted {
         human += "interrupted: results so far\n";
     }
-    human += &files_line(&[csv, png, svg]);
+    let files = [csv, png, svg];
+    human += &files_line(&files);
     report(
         &args.common,
         &Summary {
@@ -263,5 +270,9 @@ fn run_in<const D: usize>(args: &EosArgs) -> Result<()> {
             interrupted,
         },
         &human,
-    )
+    )?;
+    if interrupted {
+        return interrupted_after(&files);
+    }
+    Ok(())
 }

@@ -17,8 +17,8 @@ use rand::{Rng, SeedableRng};
 use serde::Serialize;
 
 use super::common::{
-    check_n, check_packings, files_line, out_dir, report, stop_requested, write_csv, CommonArgs,
-    Progress,
+    check_n, check_packings, files_line, interrupted_after, out_dir, report, run_collisions,
+    stop_requested, write_csv, CommonArgs, Progress,
 };
 
 /// Options of `edmd experiment maxwell`.
@@ -140,8 +140,8 @@ fn run_in<const D: usize>(args: &MaxwellArgs) -> Result<()> {
     let initial_p = initial.ks_maxwell(kt).p_value;
     // Relax for 30 collisions per disc, then a snapshot every 5.
     let n = args.n as u64;
-    while sim.stats().disc_disc < 30 * n {
-        crate::run_events(&mut sim, 10_000)?;
+    if !run_collisions(&mut sim, 30 * n)? {
+        return crate::interrupted("interrupted while the gas relaxed: nothing written");
     }
     let mut speeds = Speeds::new(args.bins, max);
     let progress = Progress::new(args.snapshots as u64, "maxwell");
@@ -149,9 +149,8 @@ fn run_in<const D: usize>(args: &MaxwellArgs) -> Result<()> {
         if stop_requested() {
             break;
         }
-        let target = sim.stats().disc_disc + 5 * n;
-        while sim.stats().disc_disc < target {
-            crate::run_events(&mut sim, 10_000)?;
+        if !run_collisions(&mut sim, 5 * n)? {
+            break;
         }
         speeds.sample(&sim);
         progress.set(k as u64 + 1);
@@ -189,10 +188,11 @@ fn run_in<const D: usize>(args: &MaxwellArgs) -> Result<()> {
     ))
     .with(Series::line(&format!("{law} at kT = {kt:.4}"), curve))
     .save(&dir.join("maxwell"))?;
+    let files = [csv, png, svg];
     let human = format!(
         "speed distribution of {} {what} at packing {} (kT = {:.4}):\n  {} speeds from {} snapshots\n  mean speed {:.4} ({law} {:.4}), rms {:.4} ({law} {:.4})\n  Kolmogorov-Smirnov against {law}: D = {:.4}, p = {:.3} (the equal-speed start: p = {:.1e})\n{}",
         args.n, args.packing, kt, s.samples, s.snapshots, s.mean, s.mean_theory, s.rms, s.rms_theory, s.ks.statistic, s.ks.p_value, initial_p,
-        files_line(&[csv, png, svg])
+        files_line(&files)
     );
     let summary = Summary {
         experiment: "maxwell",
@@ -208,5 +208,9 @@ fn run_in<const D: usize>(args: &MaxwellArgs) -> Result<()> {
         relative_energy_change: (sim.kinetic_energy() - e0) / e0,
         interrupted: s.snapshots < args.snapshots,
     };
-    report(&args.common, &summary, &human)
+    report(&args.common, &summary, &human)?;
+    if summary.interrupted {
+        return interrupted_after(&files);
+    }
+    Ok(())
 }

@@ -18,8 +18,8 @@ use edmd_plot::{Figure, Series};
 use serde::Serialize;
 
 use super::common::{
-    check_n, check_packings, files_line, melted_fluid_in, out_dir, report, stop_requested,
-    write_csv, CommonArgs, Progress,
+    check_n, check_packings, files_line, interrupted_after, melted_fluid_in, out_dir, report,
+    stop_requested, write_csv, CommonArgs, Progress,
 };
 
 /// Options of `edmd experiment mfp`.
@@ -118,22 +118,32 @@ fn run_in<const D: usize>(args: &MfpArgs) -> Result<()> {
         if stop_requested() {
             break;
         }
-        let (mut sim, rate) = melted_fluid_in::<D>(
+        let Some((mut sim, rate)) = melted_fluid_in::<D>(
             args.n,
             eta,
             Boundary::Periodic,
             args.common.seed + k as u64,
             20,
-        )?;
+        )?
+        else {
+            break;
+        };
         let lambda = enskog_lambda(eta, D);
         let e0 = sim.kinetic_energy();
         let mut obs = Collisions::new(&sim, 60, 5.0 * lambda, 5.0 * lambda / 1.25);
         let t_end = sim.time() + args.measure as f64 / rate;
         let blocks = 10;
+        let mut stopped = false;
         for b in 1..=blocks {
             let t = sim.time() + (t_end - sim.time()) / (blocks - b + 1) as f64;
-            crate::run_until(&mut sim, t, &mut obs)?;
+            if !crate::run_until_or_stop(&mut sim, t, &mut obs)? {
+                stopped = true;
+                break;
+            }
             obs.sample(&sim);
+        }
+        if stopped {
+            break;
         }
         let s = obs.summary();
         let density = theory::number_density_in(eta, 1.0, D);
@@ -263,5 +273,9 @@ fn run_in<const D: usize>(args: &MfpArgs) -> Result<()> {
             interrupted,
         },
         &human,
-    )
+    )?;
+    if interrupted {
+        return interrupted_after(&files);
+    }
+    Ok(())
 }

@@ -26,7 +26,9 @@ pub enum Experiment {
     Demon(demon::DemonArgs),
     /// Two gases mixing after the partition between them is removed.
     Diffusion(diffusion::DiffusionArgs),
-    /// The equation of state: Z = PA/(NkT) against packing, with Henderson's formula.
+    /// The equation of state: Z = PA/(NkT) (PV/(NkT) for spheres) against packing, with
+    /// Henderson's formula (Pieprzyk et al.'s for spheres). Writes eos.csv, eos.png and eos.svg
+    /// into --out-dir (default: the current folder, where files of those names are replaced).
     Eos(eos::EosArgs),
     /// The jammed packing fraction against the compression rate (Lubachevsky-Stillinger).
     Jamming(jamming::JammingArgs),
@@ -41,6 +43,10 @@ pub enum Experiment {
 /// Runs an experiment.
 pub fn run(which: &Experiment) -> Result<()> {
     common::install_ctrlc();
+    // `jamming` stops at the packer's next velocity rescaling, which can be far off.
+    if !matches!(which, Experiment::Jamming(_)) {
+        common::stop_promptly();
+    }
     let result = match which {
         Experiment::Billiards(a) => billiards::run(a),
         Experiment::Brownian(a) => brownian::run(a),
@@ -51,6 +57,17 @@ pub fn run(which: &Experiment) -> Result<()> {
         Experiment::Maxwell(a) => maxwell::run(a),
         Experiment::Mfp(a) => mfp::run(a),
         Experiment::Reversibility(a) => reversibility::run(a),
+    };
+    // The experiments end a stopped run with `Interrupted` themselves; `jamming` writes its
+    // results so far and returns, so its exit status is set here.
+    let result = match (result, which) {
+        (Ok(()), Experiment::Jamming(a)) if common::stop_requested() => {
+            crate::interrupted(format!(
+                "interrupted: the results so far are written in {}",
+                a.common.out_dir.display()
+            ))
+        }
+        (r, _) => r,
     };
     if result.is_err() {
         // A failed experiment leaves no empty folder behind (only one this run created).

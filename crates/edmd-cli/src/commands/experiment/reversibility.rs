@@ -14,7 +14,10 @@ use edmd_core::{Boundary, Disc, Options, Simulation};
 use edmd_plot::{Figure, Series};
 use serde::Serialize;
 
-use super::common::{files_line, out_dir, report, stop_requested, write_csv, CommonArgs, Progress};
+use super::common::{
+    files_line, interrupted_after, out_dir, report, run_collisions, stop_requested, write_csv,
+    CommonArgs, Progress,
+};
 use crate::user_error;
 
 /// Options of `edmd experiment reversibility`.
@@ -74,8 +77,8 @@ pub fn run(args: &ReversibilityArgs) -> Result<()> {
         .or_else(|e| user_error(format!("reversibility: {e}")))?;
     // Start from a melted state, not the lattice.
     let mut melt = Simulation::new(&discs, bx, Options::default())?;
-    while melt.stats().disc_disc < 20 * args.n as u64 {
-        crate::run_events(&mut melt, 10_000)?;
+    if !run_collisions(&mut melt, 20 * args.n as u64)? {
+        return crate::interrupted("interrupted while melting the start: nothing written");
     }
     let start: Vec<Disc> = melt.discs();
     let diameter = 2.0 * start[0].radius;
@@ -87,10 +90,14 @@ pub fn run(args: &ReversibilityArgs) -> Result<()> {
         }
         let mut sim = Simulation::new(&start, bx, Options::default())?;
         let e0 = sim.kinetic_energy();
-        crate::run_until(&mut sim, t, &mut ())?;
+        if !crate::run_until_or_stop(&mut sim, t, &mut ())? {
+            break;
+        }
         let collisions = sim.stats().disc_disc;
         sim.reverse_velocities();
-        crate::run_until(&mut sim, 2.0 * t, &mut ())?;
+        if !crate::run_until_or_stop(&mut sim, 2.0 * t, &mut ())? {
+            break;
+        }
         let d2: Vec<f64> = start
             .iter()
             .enumerate()
@@ -156,7 +163,8 @@ pub fn run(args: &ReversibilityArgs) -> Result<()> {
     if interrupted {
         human += "interrupted: results so far\n";
     }
-    human += &files_line(&[csv, png, svg]);
+    let files = [csv, png, svg];
+    human += &files_line(&files);
     let summary = Summary {
         experiment: "reversibility",
         n: args.n,
@@ -164,5 +172,9 @@ pub fn run(args: &ReversibilityArgs) -> Result<()> {
         runs,
         interrupted,
     };
-    report(&args.common, &summary, &human)
+    report(&args.common, &summary, &human)?;
+    if interrupted {
+        return interrupted_after(&files);
+    }
+    Ok(())
 }

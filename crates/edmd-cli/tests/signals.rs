@@ -1,0 +1,148 @@
+//! Issue 24, class 1: a signal must stop every long command within about a second, with one
+//! exit status, 130. Before: `edmd experiment demon --until 1e12` said "stopping" and went on
+//! (the whole span was one `run_until`), `run` and `render` ended with status 1 and `soak`
+//! with 2 (a user error); a signal before a command installed its handler killed it.
+
+use std::path::Path;
+use std::process::{Command, Stdio};
+use std::time::{Duration, Instant};
+
+use crate::support::example;
+
+/// The entries of `dir`, sorted.
+fn names(dir: &Path) -> Vec<String> {
+    let mut v: Vec<String> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    v.sort();
+    v
+}
+
+/// Starts `edmd ARGS` in `dir`, sends SIGTERM after `wait`, and returns the exit code, the
+/// seconds from the signal to the end, and standard error.
+fn terminated(dir: &Path, args: &[&str], wait: Duration) -> (Option<i32>, f64, String) {
+    let mut child = Command::new(env!("CARGO_BIN_EXE_edmd"))
+        .args(args)
+        .current_dir(dir)
+        .stdin(Stdio::null())
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    std::thread::sleep(wait);
+    assert!(
+        child.try_wait().unwrap().is_none(),
+        "{args:?} ended before the signal: make it longer"
+    );
+    let sent = Instant::now();
+    assert!(Command::new("kill")
+        .args(["-TERM", &child.id().to_string()])
+        .status()
+        .unwrap()
+        .success());
+    let status = loop {
+        if let Some(s) = child.try_wait().unwrap() {
+            break s;
+        }
+        if sent.elapsed() > Duration::from_secs(5) {
+            let _ = child.kill();
+            let _ = child.wait();
+            panic!("{args:?} did not end within 5 s of SIGTERM");
+        }
+        std::thread::sleep(Duration::from_millis(20));
+    };
+    let seconds = sent.elapsed().as_secs_f64();
+    let mut err = String::new();
+    std::io::Read::read_to_string(&mut child.stderr.take().unwrap(), &mut err).unwrap();
+    (status.code(), seconds, err)
+}
+
+#[test]
+fn every_long_command_stops_on_sigterm_with_status_130_and_no_temporary_file() {
+    let gas = example("gas-300.txt");
+    let gas = gas.to_str().unwrap();
+    // (what, arguments, what the last line must say, files left in the folder)
+    let cases: [(&str, Vec<&str>, &str, &[&str]); 5] = [
+        (
+            "run",
+            vec![
+                "run",
+                gas,
+                "--until",
+                "5e6",
+                "-o",
+                "out.txt",
+                "--trajectory",
+                "t.xyz",
+                "--every",
+                "5e3",
+            ],
+            "nothing written",
+            &[],
+        ),
+        (
+            "run, continued after a checkpoint",
+            vec![
+                "run",
+                gas,
+                "--until",
+                "5e6",
+                "--checkpoint",
+                "run.ck",
+                "--checkpoint-every",
+                "500",
+            ],
+            "checkpoint at t = ",
+            &["run.ck"],
+        ),
+        ("soak", vec!["soak"], "soak: interrupted", &[]),
+        (
+            "an experiment with a huge span",
+            vec![
+                "experiment",
+                "demon",
+                "--until",
+                "1e12",
+                "--samples",
+                "1",
+                "--out-dir",
+                "out",
+            ],
+            "results so far are written",
+            &["out"],
+        ),
+        (
+            "render",
+            vec![
+                "render",
+                gas,
+                "-o",
+                "movie.gif",
+                "--until",
+                "5e6",
+                "--fps",
+                "1",
+                "--time-scale",
+                "1e6",
+            ],
+            "nothing written",
+            &[],
+        ),
+    ];
+    for (what, args, says, left) in cases {
+        let dir = tempfile::tempdir().unwrap();
+        let (code, seconds, err) = terminated(dir.path(), &args, Duration::from_millis(1500));
+        assert_eq!(code, Some(130), "{what}: {err}");
+        let last = err.trim_end().lines().last().unwrap_or_default();
+        assert!(
+            last.contains("interrupted") && last.contains(says),
+            "{what}: {err}"
+        );
+        assert_eq!(names(dir.path()), left, "{what}: {seconds} s");
+        if what.starts_with("an experiment") {
+            let out = names(&dir.path().join("out"));
+            assert_eq!(out, ["demon.csv", "demon.png", "demon.svg"], "{what}");
+        }
+    }
+}
