@@ -31,7 +31,59 @@ Contents:
       denser, _ = edmd.pack(start=glass, pressure=1e9)      # on from a simulation
 """
 
-from edmd._edmd import Simulation, __version__, pack
+import functools
+
+from edmd import _check
 from edmd import gen
+from edmd._edmd import Simulation, __version__
+from edmd._edmd import pack as _compiled_pack
+
+
+@functools.wraps(_compiled_pack)
+def pack(n=None, *, dim=None, growth_rate=None, pressure=None, packing=None, size_ratio=None,
+         fraction_large=None, polydispersity=None, boundary=None, seed=None, start=None,
+         checkpoint=None, checkpoint_every=None, resume=None):
+    # The arguments' types and the files are checked here, before the compression, so that a
+    # bad value raises TypeError or ValueError naming it (not OverflowError, nor a missing
+    # file called "not a checkpoint"), and a checkpoint path that can never be written (a
+    # folder) is refused before hours of work rather than at the first checkpoint.
+    _check.whole("n", n)
+    _check.whole("dim", dim)
+    _check.whole("seed", seed)
+    for name, value in (("growth_rate", growth_rate), ("pressure", pressure),
+                        ("packing", packing), ("size_ratio", size_ratio),
+                        ("fraction_large", fraction_large), ("polydispersity", polydispersity)):
+        # The values themselves (NaN, out of range) are judged by `edmd pack`'s own checks.
+        _check.real(name, value, finite=False)
+    _check.real("checkpoint_every", checkpoint_every, finite=False)
+    _check.text("boundary", boundary)
+    if start is not None:
+        if not isinstance(start, Simulation):
+            raise TypeError(f"start: expected a Simulation, got {type(start).__name__}")
+        # Refused at once (RuntimeError) while the simulation runs in another thread.
+        len(start)
+    checkpoint = _check.output_file("checkpoint", checkpoint)
+    resume = _check.input_file("resume", resume)
+    try:
+        return _compiled_pack(n, dim=dim, growth_rate=growth_rate, pressure=pressure,
+                              packing=packing, size_ratio=size_ratio,
+                              fraction_large=fraction_large, polydispersity=polydispersity,
+                              boundary=boundary, seed=seed, start=start, checkpoint=checkpoint,
+                              checkpoint_every=checkpoint_every, resume=resume)
+    except ValueError as e:
+        given = {k for k, v in dict(n=n, dim=dim, growth_rate=growth_rate, pressure=pressure,
+                                    packing=packing, size_ratio=size_ratio,
+                                    fraction_large=fraction_large,
+                                    polydispersity=polydispersity).items() if v is not None}
+        named = _check.naming_the_argument(e, given)
+        if named is None:
+            raise
+        raise named from None
+    except BaseException as e:
+        # A panic in Rust is a defect in edmd, never the caller's doing: a RuntimeError that
+        # says so, not PyO3's PanicException (which is not an Exception).
+        if type(e).__name__ == "PanicException":
+            raise RuntimeError(f"pack: internal error in edmd ({e}); please report it") from None
+        raise
 
 __all__ = ["Simulation", "gen", "pack", "__version__"]

@@ -4,7 +4,8 @@ Each function takes the options ``edmd gen KIND`` takes for that kind (as keywor
 ``None`` for the kind's documented default) and a ``seed``; the same seed gives the same
 system as ``edmd gen KIND --seed S``, bit for bit. Bad values raise ``ValueError`` with the
 command's message. ``rule`` ("elastic" or "swap") and ``multi`` are the run options of the
-simulation returned.
+simulation returned. A value of the wrong type (a str for a number, a bool or a float for a
+count) raises ``TypeError`` naming the argument.
 
 Example::
 
@@ -13,7 +14,40 @@ Example::
     sim = edmd.gen.mixture(n=400, size_ratio=1.4, fraction_large=0.5, seed=3)
 """
 
-from edmd._edmd import _generate
+from edmd import _check
+from edmd._edmd import _generate as _compiled_generate
+
+# The options whose values are numbers, whole numbers, text and flags (`edmd gen`'s).
+_REAL = ("radius", "speed", "mass", "kt", "packing", "angle", "impact", "region", "big_radius",
+         "big_mass", "size_ratio", "fraction_large", "spread")
+
+
+def _generate(kind, **options):
+    """Checks the options' types and ranges (naming them), then makes the system in Rust."""
+    for name in _REAL:
+        if name in options:
+            options[name] = _check.real(name, options[name])
+    if "n" in options:
+        options["n"] = _check.whole("n", options["n"], -(2**63), 2**63 - 1)
+    if options.get("seed", 1) is None:
+        raise TypeError("seed: expected a whole number, got None")
+    options["seed"] = _check.whole("seed", options.get("seed", 1), 0, 2**64 - 1)
+    if "dim" in options:
+        options["dim"] = _check.whole("dim", options["dim"], -(2**63), 2**63 - 1)
+    for name in ("boundary", "rule"):
+        if name in options:
+            _check.text(name, options[name])
+    if "rule" in options and options["rule"] is None:
+        raise TypeError("rule: expected 'elastic' or 'swap', got None")
+    if "multi" in options:
+        _check.flag("multi", options["multi"])
+    try:
+        return _compiled_generate(kind, **options)
+    except ValueError as e:
+        named = _check.naming_the_argument(e, {k for k, v in options.items() if v is not None})
+        if named is None:
+            raise
+        raise named from None
 
 __all__ = [
     "single",

@@ -3,8 +3,11 @@
 
 use edmd_core::{Boundary, Disc, Options, SimBox, Simulation, Vector};
 use numpy::{AllowTypeChange, PyArray1, PyArrayLike1, PyArrayLike2, PyArrayMethods};
+use pyo3::exceptions::{PyTypeError, PyValueError};
 use pyo3::prelude::*;
+use pyo3::types::{PyBytes, PyString};
 
+use crate::args::num;
 use crate::value_error;
 
 /// An `(N, D)` float64 array of `row(i)` for every disc.
@@ -21,29 +24,102 @@ pub fn matrix<'py, const D: usize>(
     Ok(PyArray1::from_vec(py, flat).reshape([n, D])?.into_any())
 }
 
-/// A float64 matrix from anything numpy can convert.
+/// `obj` as a float64 numpy array, refusing what numpy would convert silently but wrongly:
+/// complex numbers (the imaginary part dropped), strings ("1" read as 1.0), booleans, and
+/// objects that are not numbers (`None`, rows of different lengths). `what` says what was
+/// expected, for the messages.
+fn float_array<'py>(
+    obj: &Bound<'py, PyAny>,
+    name: &str,
+    what: &str,
+) -> PyResult<Bound<'py, PyAny>> {
+    let got = |kind: &str| PyTypeError::new_err(format!("{name}: expected {what}, got {kind}"));
+    if obj.is_instance_of::<PyString>() || obj.is_instance_of::<PyBytes>() {
+        return Err(got("a str"));
+    }
+    let np = obj.py().import("numpy")?;
+    let a = np
+        .call_method1("asarray", (obj,))
+        .map_err(|e| PyValueError::new_err(format!("{name}: expected {what}: {e}")))?;
+    let kind: String = a.getattr("dtype")?.getattr("kind")?.extract()?;
+    match kind.as_str() {
+        "f" | "i" | "u" => a.call_method1("astype", ("float64",)),
+        "c" => Err(got("complex numbers")),
+        "b" => Err(got("booleans")),
+        "U" | "S" => Err(got("strings")),
+        "O" => Err(got(
+            "values that are not all numbers (None, or rows of different lengths?)",
+        )),
+        _ => Err(got(&format!(
+            "an array of dtype {}",
+            a.getattr("dtype")?.str()?
+        ))),
+    }
+}
+
+/// A float64 matrix from anything numpy can convert: its values, rows and columns.
 fn float_matrix(obj: &Bound<'_, PyAny>, name: &str) -> PyResult<(Vec<f64>, usize, usize)> {
-    let a: PyArrayLike2<'_, f64, AllowTypeChange> = obj.extract().map_err(|_| {
-        value_error(format!(
-            "{name}: expected an (N, 2) or (N, 3) array of numbers"
-        ))
-    })?;
+    let what = "an (N, 2) or (N, 3) array of numbers";
+    let a = float_array(obj, name, what)?;
+    let shape: Vec<usize> = a.getattr("shape")?.extract()?;
+    if shape.len() != 2 {
+        return Err(value_error(format!(
+            "{name}: expected {what}, got shape {}",
+            shape_text(&shape)
+        )));
+    }
+    let a: PyArrayLike2<'_, f64, AllowTypeChange> = a.extract()?;
     let view = a.as_array();
     let (n, d) = view.dim();
     Ok((view.iter().copied().collect(), n, d))
 }
 
+fn shape_text(shape: &[usize]) -> String {
+    match shape {
+        [k] => format!("({k},)"),
+        _ => format!(
+            "({})",
+            shape
+                .iter()
+                .map(|k| k.to_string())
+                .collect::<Vec<_>>()
+                .join(", ")
+        ),
+    }
+}
+
+/// A float64 vector (1-D) from anything numpy can convert.
+pub fn float_vector(obj: &Bound<'_, PyAny>, name: &str, what: &str) -> PyResult<Vec<f64>> {
+    let a = float_array(obj, name, what)?;
+    let shape: Vec<usize> = a.getattr("shape")?.extract()?;
+    if shape.len() != 1 {
+        return Err(value_error(format!(
+            "{name}: expected {what}, got shape {}",
+            shape_text(&shape)
+        )));
+    }
+    let a: PyArrayLike1<'_, f64, AllowTypeChange> = a.extract()?;
+    Ok(a.as_array().iter().copied().collect())
+}
+
 /// `n` numbers: one number repeated, or an array of `n`.
 fn per_disc(obj: &Bound<'_, PyAny>, n: usize, name: &str) -> PyResult<Vec<f64>> {
-    if let Ok(x) = obj.extract::<f64>() {
-        return Ok(vec![x; n]);
-    }
-    let a: PyArrayLike1<'_, f64, AllowTypeChange> = obj.extract().map_err(|_| {
-        value_error(format!(
-            "{name}: expected a number or an array of N = {n} numbers"
-        ))
-    })?;
-    let v: Vec<f64> = a.as_array().iter().copied().collect();
+    let what = format!("a number or an array of N = {n} numbers");
+    let a = float_array(obj, name, &what)?;
+    let shape: Vec<usize> = a.getattr("shape")?.extract()?;
+    let v: Vec<f64> = match shape.len() {
+        0 => vec![a.extract::<f64>()?; n],
+        1 => {
+            let a: PyArrayLike1<'_, f64, AllowTypeChange> = a.extract()?;
+            a.as_array().iter().copied().collect()
+        }
+        _ => {
+            return Err(value_error(format!(
+                "{name}: expected {what}, got shape {}",
+                shape_text(&shape)
+            )))
+        }
+    };
     if v.len() != n {
         return Err(value_error(format!(
             "{name}: expected N = {n} values (one per disc), got {}",
@@ -51,6 +127,50 @@ fn per_disc(obj: &Bound<'_, PyAny>, n: usize, name: &str) -> PyResult<Vec<f64>> 
         )));
     }
     Ok(v)
+}
+
+/// Refuses values that are not finite positive numbers, naming the argument and the disc.
+fn check_positive(v: &[f64], name: &str) -> PyResult<()> {
+    match v.iter().position(|x| !(x.is_finite() && *x > 0.0)) {
+        Some(k) => Err(value_error(format!(
+            "{name}: disc {k}: {} is not a finite positive number",
+            num(v[k])
+        ))),
+        None => Ok(()),
+    }
+}
+
+/// The velocity checks of the engine's own (`Simulation::new` refuses a disc whose velocity
+/// is not finite or whose kinetic energy `m v^2 / 2` overflows): one function, so that
+/// `from_arrays` and the `velocities` setter refuse the same velocities with the same message.
+/// A velocity the engine would refuse on reading makes a run that never ends and a pickle that
+/// cannot be read.
+pub fn check_velocities(vel: &[f64], masses: &[f64], dim: usize) -> PyResult<()> {
+    for (i, m) in masses.iter().enumerate() {
+        let v = &vel[i * dim..(i + 1) * dim];
+        if v.iter().any(|x| !x.is_finite()) {
+            return Err(value_error(format!(
+                "velocities: disc {i}: the velocity {} is not finite",
+                vector_text(v)
+            )));
+        }
+        let v2: f64 = v.iter().map(|x| x * x).sum();
+        if !(0.5 * m * v2).is_finite() {
+            return Err(value_error(format!(
+                "velocities: disc {i}: the kinetic energy of velocity {} with mass {} is not finite (speed or mass too large)",
+                vector_text(v),
+                num(*m)
+            )));
+        }
+    }
+    Ok(())
+}
+
+fn vector_text(v: &[f64]) -> String {
+    format!(
+        "({})",
+        v.iter().map(|x| num(*x)).collect::<Vec<_>>().join(", ")
+    )
 }
 
 fn parse_boundary(s: &str) -> PyResult<Boundary> {
@@ -83,7 +203,7 @@ impl Input {
         velocities: &Bound<'_, PyAny>,
         radii: &Bound<'_, PyAny>,
         masses: Option<&Bound<'_, PyAny>>,
-        lengths: Option<Vec<f64>>,
+        lengths: Option<&Bound<'_, PyAny>>,
         boundary: Option<&Bound<'_, PyAny>>,
         species: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<Self> {
@@ -99,11 +219,21 @@ impl Input {
                 "velocities: expected shape ({n}, {dim}) like positions, got ({nv}, {dv})"
             )));
         }
+        if let Some(k) = pos.iter().position(|x| !x.is_finite()) {
+            return Err(value_error(format!(
+                "positions: disc {}: {} is not finite",
+                k / dim,
+                num(pos[k])
+            )));
+        }
         let radii = per_disc(radii, n, "radii")?;
+        check_positive(&radii, "radii")?;
         let masses = match masses {
             Some(m) => per_disc(m, n, "masses")?,
             None => vec![1.0; n],
         };
+        check_positive(&masses, "masses")?;
+        check_velocities(&vel, &masses, dim)?;
         let species = match species {
             None => vec![0; n],
             Some(s) => {
@@ -114,13 +244,22 @@ impl Input {
                             Ok(x as u16)
                         } else {
                             Err(value_error(format!(
-                                "species: expected integers from 0 to {}, got {x}",
-                                u16::MAX
+                                "species: expected integers from 0 to {}, got {}",
+                                u16::MAX,
+                                num(x)
                             )))
                         }
                     })
                     .collect::<PyResult<Vec<u16>>>()?
             }
+        };
+        let lengths = match lengths {
+            Some(l) => Some(float_vector(
+                l,
+                "box",
+                "the box lengths, a tuple of numbers",
+            )?),
+            None => None,
         };
         let Some(lengths) = lengths else {
             return Err(value_error(format!(
@@ -134,6 +273,16 @@ impl Input {
                 lengths.len()
             )));
         }
+        check_positive(&lengths, "box").map_err(|_| {
+            value_error(format!(
+                "box: the lengths must be finite positive numbers, got ({})",
+                lengths
+                    .iter()
+                    .map(|l| num(*l))
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            ))
+        })?;
         let boundaries = match boundary {
             None => vec![Boundary::Periodic; dim],
             Some(b) => {
@@ -141,7 +290,10 @@ impl Input {
                     vec![parse_boundary(&s)?; dim]
                 } else {
                     let v: Vec<String> = b.extract().map_err(|_| {
-                        value_error("boundary: expected 'periodic', 'walls', or one per axis")
+                        PyTypeError::new_err(format!(
+                            "boundary: expected 'periodic', 'walls', or one of them per axis, got {}",
+                            crate::args::type_name(b)
+                        ))
                     })?;
                     if v.len() != dim {
                         return Err(value_error(format!(
@@ -203,12 +355,8 @@ pub fn set_velocities<const D: usize>(
             sim.len()
         )));
     }
-    if let Some(k) = vel.iter().position(|x| !x.is_finite()) {
-        return Err(value_error(format!(
-            "velocities: disc {} has a velocity that is not finite",
-            k / D
-        )));
-    }
+    let masses: Vec<f64> = (0..n).map(|i| sim.mass(i)).collect();
+    check_velocities(&vel, &masses, D)?;
     sim.modify_velocities(|i, _| Vector(std::array::from_fn(|a| vel[i * D + a])));
     Ok(())
 }

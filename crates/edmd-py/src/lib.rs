@@ -8,27 +8,34 @@
 //! go in chunks of about 50 ms, checking for Ctrl-C between chunks; where a run stops never
 //! changes its trajectory, so the chunks give the uninterrupted run.
 
+mod args;
 mod arrays;
-mod gsd;
 mod pack;
 mod state;
 
 use std::io::Write;
+use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::path::{Path, PathBuf};
 
 use edmd_cli::commands::measurements::Measure;
+use edmd_cli::output::AtomicFile;
 use edmd_core::{Boundary, CollisionRule, MultiContact, Options, OverlapPolicy, Simulation};
 use edmd_io::princeton::ColumnOrder;
 use edmd_io::Format;
 use numpy::PyArray1;
-use pyo3::exceptions::{PyOSError, PyValueError};
+use pyo3::exceptions::{PyOSError, PyRuntimeError, PyTypeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyBytes, PyDict, PyTuple};
 
+use args::num;
 use state::{State, EVENT_CHUNK};
 
-/// The most trajectory frames, callbacks or samples one run may take (as `edmd run`).
-const MAX_STOPS: f64 = 1e6;
+/// The most trajectory frames, callbacks or samples one run may take: `edmd run`'s limit.
+use edmd_cli::commands::run::MAX_STOPS;
+
+/// The largest trajectory file one run may write, as estimated before it starts (10 GB): a
+/// typing slip in `every` or a huge system should be refused at once, not fill the disc.
+const MAX_TRAJECTORY_BYTES: f64 = 1e10;
 
 /// A simulation of either dimension.
 enum Inner {
@@ -47,8 +54,10 @@ macro_rules! each {
 }
 
 /// A user error (bad input, unreadable file): `ValueError` with the CLI's message.
+/// Numbers in the message are kept short (`1e300`, not 301 digits: see
+/// [`args::shorten_numbers`]), whoever wrote it.
 fn value_error(e: impl std::fmt::Display) -> PyErr {
-    PyValueError::new_err(e.to_string())
+    PyValueError::new_err(args::shorten_numbers(&e.to_string()))
 }
 
 /// A `boundary=` argument: `None`, `'periodic'` or `'walls'`; `what` starts the error message.
@@ -69,11 +78,31 @@ fn parse_boundary(
 
 /// An `anyhow` error from the CLI's functions: its message in one line, as `edmd` prints it.
 fn cli_error(e: anyhow::Error) -> PyErr {
-    PyValueError::new_err(format!("{e:#}").replace('\n', " "))
+    value_error(format!("{e:#}").replace('\n', " "))
 }
 
 fn io_error(e: std::io::Error) -> PyErr {
     PyOSError::new_err(e.to_string())
+}
+
+/// Runs `f`, turning a panic (a defect in edmd, never the user's doing) into a `RuntimeError`
+/// that says so, rather than the `PanicException` PyO3 would raise, which Python code does not
+/// expect (it is not an `Exception`).
+fn guarded<T>(what: &str, f: impl FnOnce() -> PyResult<T>) -> PyResult<T> {
+    match catch_unwind(AssertUnwindSafe(f)) {
+        Ok(r) => r,
+        Err(payload) => {
+            let why = payload
+                .downcast_ref::<&str>()
+                .map(|s| s.to_string())
+                .or_else(|| payload.downcast_ref::<String>().cloned())
+                .unwrap_or_else(|| "unknown".into());
+            Err(PyRuntimeError::new_err(format!(
+                "{what}: internal error in edmd ({why}); please report it. The simulation may be \
+                 left in an inconsistent state"
+            )))
+        }
+    }
 }
 
 use edmd_cli::commands::run::format_name;
@@ -133,8 +162,8 @@ fn boundary_name(b: Boundary) -> &'static str {
 
 /// Checkpoint bytes with the format in the extra bytes, as `edmd run --checkpoint` writes them
 /// (so `edmd run` continues a checkpoint written from Python, and the other way round).
-fn checkpoint_bytes<const D: usize>(s: &State<D>) -> Vec<u8> {
-    s.checkpoint()
+fn checkpoint_bytes<const D: usize>(s: &State<D>) -> PyResult<Vec<u8>> {
+    s.checkpoint().map_err(PyRuntimeError::new_err)
 }
 
 fn from_checkpoint(bytes: &[u8], what: &str) -> PyResult<Inner> {
@@ -148,42 +177,122 @@ fn from_checkpoint(bytes: &[u8], what: &str) -> PyResult<Inner> {
     }
 }
 
-/// A trajectory being written during `run`.
+/// What a trajectory file holds, from its extension.
+#[derive(Clone, Copy, PartialEq)]
+enum TrajectoryKind {
+    Xyz,
+    Gsd,
+}
+
+fn trajectory_kind(path: &Path) -> PyResult<TrajectoryKind> {
+    match extension(path).as_deref() {
+        Some("gsd") => Ok(TrajectoryKind::Gsd),
+        Some("xyz") | Some("extxyz") => Ok(TrajectoryKind::Xyz),
+        _ => Err(value_error(format!(
+            "trajectory: {}: trajectories are written as .xyz or .gsd files",
+            path.display()
+        ))),
+    }
+}
+
+/// True for a path that exists and is neither a regular file nor a folder (a device, a FIFO):
+/// `AtomicFile` writes those in place.
+fn is_special(path: &Path) -> bool {
+    std::fs::metadata(edmd_cli::output::resolve_links(path))
+        .is_ok_and(|m| !m.is_file() && !m.is_dir())
+}
+
+/// Refuses a trajectory that cannot be written or would be absurdly large, before anything is
+/// created: the estimate is `frames` frames of the size of one frame of this system.
+fn check_trajectory(path: &Path, kind: TrajectoryKind, frames: f64, inner: &Inner) -> PyResult<()> {
+    edmd_cli::output::check_file_destinations(&[("trajectory", path)]).map_err(cli_error)?;
+    if kind == TrajectoryKind::Gsd && is_special(path) {
+        return Err(value_error(format!(
+            "trajectory: {}: a GSD trajectory needs a regular file (its index is written at the end); write .xyz to a device or a pipe",
+            path.display()
+        )));
+    }
+    let per_frame = each!(inner, s => frame_bytes(&s.sim, kind))?;
+    let total = frames * per_frame;
+    if total > MAX_TRAJECTORY_BYTES {
+        return Err(value_error(format!(
+            "trajectory: {}: {frames:.0} frames of about {per_frame:.0} bytes each make about {total:.3e} bytes, more than the {MAX_TRAJECTORY_BYTES:.0e} bytes (10 GB) a run may write: take a larger every or a shorter run",
+            path.display()
+        )));
+    }
+    Ok(())
+}
+
+/// The size of one trajectory frame of `sim`, in bytes: for extended XYZ, measured on the first
+/// 100 discs and scaled to all (a frame of millions of discs is not written just to count it);
+/// for GSD, the fixed sizes of the chunks (48 bytes a particle) and their index entries.
+fn frame_bytes<const D: usize>(sim: &Simulation<D>, kind: TrajectoryKind) -> PyResult<f64> {
+    let n = sim.len();
+    Ok(match kind {
+        TrajectoryKind::Gsd => 48.0 * n as f64 + 1024.0,
+        TrajectoryKind::Xyz => {
+            let k = n.min(100);
+            let discs = sim.discs();
+            let mut sample = Vec::new();
+            edmd_io::xyz::write_frame(&mut sample, &discs[..k], sim.sim_box(), sim.time())
+                .map_err(io_error)?;
+            sample.len() as f64 * n.max(1) as f64 / k.max(1) as f64
+        }
+    })
+}
+
+/// A trajectory being written during `run`: under a temporary name beside the file, moved
+/// into place by [`Trajectory::finish`], as the CLI writes its outputs (`AtomicFile`), so the
+/// file named is replaced whole or not at all.
 enum Trajectory {
-    Xyz(std::io::BufWriter<std::fs::File>),
-    Gsd(gsd::Writer),
+    Xyz(AtomicFile),
+    /// GSD files are written by path (`hoomd-gsd`), so its writer writes the temporary file.
+    Gsd(Box<edmd_io::gsd::Writer>, AtomicFile, PathBuf),
+}
+
+/// A GSD error about the temporary file, said of the file the user named.
+fn gsd_error(path: &Path, e: edmd_io::gsd::GsdError) -> PyErr {
+    value_error(format!("{}: {}", path.display(), e.message))
 }
 
 impl Trajectory {
-    fn create(path: &Path) -> PyResult<Self> {
-        let file = std::fs::File::create(path)
-            .map_err(|e| value_error(format!("{}: cannot write: {e}", path.display())))?;
-        Ok(match extension(path).as_deref() {
-            Some("gsd") => Trajectory::Gsd(gsd::Writer::new(file).map_err(io_error)?),
-            Some("xyz") | Some("extxyz") => Trajectory::Xyz(std::io::BufWriter::new(file)),
-            _ => {
-                return Err(value_error(format!(
-                    "{}: trajectories are written as .xyz or .gsd files",
-                    path.display()
-                )))
+    /// Creates the temporary file; called only once every check of the run has passed.
+    fn create(path: &Path, kind: TrajectoryKind) -> PyResult<Self> {
+        let file = AtomicFile::create(path).map_err(cli_error)?;
+        match kind {
+            TrajectoryKind::Xyz => Ok(Trajectory::Xyz(file)),
+            TrajectoryKind::Gsd => {
+                let Some(tmp) = file.temp_path() else {
+                    return Err(value_error(format!(
+                        "trajectory: {}: a GSD trajectory needs a regular file",
+                        path.display()
+                    )));
+                };
+                let w = edmd_io::gsd::Writer::create(tmp, edmd_io::gsd::Precision::Float32)
+                    .map_err(|e| gsd_error(path, e))?;
+                Ok(Trajectory::Gsd(Box::new(w), file, path.to_path_buf()))
             }
-        })
+        }
     }
 
     fn frame(&mut self, inner: &Inner) -> PyResult<()> {
         each!(inner, s => match self {
-            Trajectory::Xyz(w) => {
-                edmd_io::xyz::write_frame(w, &s.sim.discs(), s.sim.sim_box(), s.sim.time())
+            Trajectory::Xyz(f) => {
+                edmd_io::xyz::write_frame(f.writer(), &s.sim.discs(), s.sim.sim_box(), s.sim.time())
                     .map_err(io_error)
             }
-            Trajectory::Gsd(w) => w.frame(&s.sim).map_err(io_error),
+            Trajectory::Gsd(w, _, path) => w.append_simulation(&s.sim).map_err(|e| gsd_error(path, e)),
         })
     }
 
+    /// Completes the file and moves it into place.
     fn finish(self) -> PyResult<()> {
         match self {
-            Trajectory::Xyz(mut w) => w.flush().map_err(io_error),
-            Trajectory::Gsd(w) => w.finish().map(drop).map_err(io_error),
+            Trajectory::Xyz(f) => f.commit().map_err(cli_error),
+            Trajectory::Gsd(w, f, path) => {
+                w.finish().map_err(|e| gsd_error(&path, e))?;
+                f.commit_existing().map_err(cli_error)
+            }
         }
     }
 }
@@ -199,6 +308,12 @@ fn extension(path: &Path) -> Option<String> {
 /// `edmd.gen`, advance it with `run(until=T)` or `run(events=N)`, and read its state as numpy
 /// arrays (`positions`, `velocities`, ...). Pickling and `copy.deepcopy` keep the exact state:
 /// a restored simulation continues bit for bit like the original.
+///
+/// Threads: a simulation is used by one thread at a time. While `run` is under way in one
+/// thread, every use of the simulation from another thread (reading `positions`, pickling,
+/// another `run`, ...) raises `RuntimeError` at once rather than waiting; a callback of the
+/// run may read and change the simulation, but not `run` it. Separate simulations run in
+/// separate threads in parallel (the GIL is released).
 ///
 /// Example:
 ///
@@ -224,22 +339,102 @@ impl PySimulation {
     fn boundaries(&self) -> Vec<&'static str> {
         each!(&self.inner, s => s.sim.sim_box().boundaries.iter().map(|b| boundary_name(*b)).collect())
     }
+
+    fn running(&self) -> Option<std::thread::ThreadId> {
+        each!(&self.inner, s => s.running)
+    }
+
+    fn dimension(&self) -> usize {
+        match self.inner {
+            Inner::Two(_) => 2,
+            Inner::Three(_) => 3,
+        }
+    }
+
+    fn len(&self) -> usize {
+        each!(&self.inner, s => s.sim.len())
+    }
+}
+
+/// The simulation to read, refused while a run is under way in another thread. Every method
+/// takes the object through this (or [`get_mut`]) instead of PyO3's own borrow, whose failure
+/// is a bare "Already mutably borrowed", and which would let another thread in between the
+/// chunks of a run.
+fn get<'py>(slf: &Bound<'py, PySimulation>) -> PyResult<PyRef<'py, PySimulation>> {
+    let this = slf.try_borrow().map_err(|_| args::busy())?;
+    match this.running() {
+        Some(t) if t != std::thread::current().id() => Err(args::busy()),
+        _ => Ok(this),
+    }
+}
+
+/// The simulation to change, refused while a run is under way in another thread.
+fn get_mut<'py>(slf: &Bound<'py, PySimulation>) -> PyResult<PyRefMut<'py, PySimulation>> {
+    let this = slf.try_borrow_mut().map_err(|_| args::busy())?;
+    match this.running() {
+        Some(t) if t != std::thread::current().id() => Err(args::busy()),
+        _ => Ok(this),
+    }
+}
+
+/// A run under way: marks the simulation busy for other threads and for `run` called from
+/// its callbacks, and clears the mark when the run ends, however it ends.
+struct Running<'a, 'py>(&'a Bound<'py, PySimulation>);
+
+impl<'a, 'py> Running<'a, 'py> {
+    fn claim(slf: &'a Bound<'py, PySimulation>) -> PyResult<Self> {
+        let mut this = get_mut(slf)?;
+        if this.running().is_some() {
+            // `get_mut` let it through, so the run under way is this thread's own: `run` was
+            // called from one of its callbacks. Going on would run the simulation past the
+            // outer run's end (a callback's `run(until=T + 500)` made `run(until=5)` end at
+            // t = 501).
+            return Err(PyRuntimeError::new_err(
+                "run: called from a callback of this simulation's own run(), which is under way; a callback may read and change the simulation but not run it (return from the callback and let run() go on)",
+            ));
+        }
+        let me = std::thread::current().id();
+        each!(&mut this.inner, s => s.running = Some(me));
+        Ok(Running(slf))
+    }
+}
+
+impl Drop for Running<'_, '_> {
+    fn drop(&mut self) {
+        // Every borrow of the run has ended by now, so this borrow succeeds.
+        if let Ok(mut this) = self.0.try_borrow_mut() {
+            each!(&mut this.inner, s => s.running = None);
+        }
+    }
+}
+
+/// The run's own borrows (the run holds the busy mark, so no other thread gets this far).
+fn borrow<'py>(slf: &Bound<'py, PySimulation>) -> PyResult<PyRef<'py, PySimulation>> {
+    slf.try_borrow().map_err(|_| args::busy())
+}
+
+fn borrow_mut<'py>(slf: &Bound<'py, PySimulation>) -> PyResult<PyRefMut<'py, PySimulation>> {
+    slf.try_borrow_mut().map_err(|_| args::busy())
 }
 
 #[pymethods]
 impl PySimulation {
     /// Reads a data file, as `edmd run FILE` does: the course format, the Princeton format
-    /// (with edmd's extension: 3D files, walls or periodic boundaries, barriers, species) or an
-    /// `edmd run --checkpoint` file.
+    /// (with edmd's extension: 3D files, walls or periodic boundaries, barriers, species), a
+    /// GSD file of the HOOMD schema (HOOMD-blue's, the `gsd` package's or edmd's own: a
+    /// periodic box unless edmd wrote walls; positions and velocities to float32 precision,
+    /// exact for files edmd wrote with `write`) or an `edmd run --checkpoint` file.
     ///
     /// Args:
     ///     path: the file.
+    ///     frame: the frame of a GSD file, from 0 (negative from the end; the last when None).
     ///     format: "course" or "princeton"; detected when None.
     ///     columns: "radius-mass" (default) or "mass-radius" for Princeton files.
     ///     rule: "elastic" or "swap" (the course's rule); by default swap for course files (as
     ///         the course's `particles` and `edmd run` do), elastic for the others.
-    ///     multi: multi-disc collisions (elastic rule only).
-    ///     allow_overlaps: run overlapping input anyway (see `edmd run --allow-overlaps`).
+    ///     multi: multi-disc collisions (elastic rule only); False when None.
+    ///     allow_overlaps: run overlapping input anyway (see `edmd run --allow-overlaps`);
+    ///         False when None.
     ///
     /// Raises:
     ///     ValueError: the file cannot be read or is wrong; the message names the line, as
@@ -247,75 +442,34 @@ impl PySimulation {
     ///
     /// >>> sim = edmd.Simulation.from_file("examples/data/gas-300.txt")
     #[staticmethod]
-    #[pyo3(signature = (path, *, format=None, columns=None, rule=None, multi=false, allow_overlaps=false))]
+    #[pyo3(signature = (path, *, frame=None, format=None, columns=None, rule=None, multi=None, allow_overlaps=None))]
     fn from_file(
-        path: PathBuf,
-        format: Option<&str>,
-        columns: Option<&str>,
-        rule: Option<&str>,
-        multi: bool,
-        allow_overlaps: bool,
+        path: &Bound<'_, PyAny>,
+        frame: Option<&Bound<'_, PyAny>>,
+        format: Option<&Bound<'_, PyAny>>,
+        columns: Option<&Bound<'_, PyAny>>,
+        rule: Option<&Bound<'_, PyAny>>,
+        multi: Option<&Bound<'_, PyAny>>,
+        allow_overlaps: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<Self> {
-        let name = path.to_string_lossy().into_owned();
-        // The file's own rule unless told: swap for course files.
-        let opts = |format: Format| {
-            let default = if format == Format::Course {
-                "swap"
-            } else {
-                "elastic"
-            };
-            options(rule.unwrap_or(default), multi, allow_overlaps)
-        };
-        // The CLI's reader: only a file that starts with the magic number, and bounded in size.
-        if let Some(bytes) = edmd_cli::commands::run::read_checkpoint(&path).map_err(cli_error)? {
-            if format.is_some() || columns.is_some() || rule.is_some() || multi || allow_overlaps {
-                return Err(value_error(format!(
-                    "{name}: a checkpoint carries its run's options: drop format, columns, rule, multi and allow_overlaps"
-                )));
-            }
-            return Ok(PySimulation {
-                inner: from_checkpoint(&bytes, &name)?,
-            });
-        }
-        let order = match columns {
-            None | Some("radius-mass") => ColumnOrder::RadiusMass,
-            Some("mass-radius") => ColumnOrder::MassRadius,
-            Some(c) => {
-                return Err(value_error(format!(
-                    "columns: expected 'radius-mass' or 'mass-radius', got '{c}'"
-                )))
-            }
-        };
-        let format = match format {
-            None => None,
-            Some("course") => Some(Format::Course),
-            Some("princeton") => Some(Format::Princeton(order)),
-            Some(f) => {
-                return Err(value_error(format!(
-                    "format: expected 'course' or 'princeton', got '{f}'"
-                )))
-            }
-        };
-        let text = edmd_cli::input::read_text(&name).map_err(cli_error)?;
-        let loaded = edmd_cli::input::load_any(&name, &text, format, order).map_err(cli_error)?;
-        let inner = match loaded {
-            edmd_io::AnyLoaded::Two(sys) => {
-                if columns.is_some() && sys.format == Format::Course {
-                    return Err(value_error(format!(
-                        "{name}: columns applies to the Princeton format, and this is a course file (N, R, Lx Ly, then x y u v)"
-                    )));
-                }
-                Inner::Two(State::new(
-                    built(&name, &sys, opts(sys.format)?)?,
-                    sys.format,
-                ))
-            }
-            edmd_io::AnyLoaded::Three(sys) => Inner::Three(State::new(
-                built(&name, &sys, opts(sys.format)?)?,
-                sys.format,
-            )),
-        };
-        Ok(PySimulation { inner })
+        let path = args::path(path, "path")?;
+        let frame = args::opt_frame(frame, "frame")?;
+        let format = args::opt_text(format, "format")?;
+        let columns = args::opt_text(columns, "columns")?;
+        let rule = args::opt_text(rule, "rule")?;
+        let multi = args::opt_flag(multi, "multi")?;
+        let allow_overlaps = args::opt_flag(allow_overlaps, "allow_overlaps")?;
+        guarded("from_file", || {
+            Self::read_file(
+                path,
+                frame,
+                format.as_deref(),
+                columns.as_deref(),
+                rule.as_deref(),
+                multi,
+                allow_overlaps,
+            )
+        })
     }
 
     /// Builds a simulation from arrays, at time 0.
@@ -328,13 +482,16 @@ impl PySimulation {
     ///     box: the box lengths (Lx, Ly) or (Lx, Ly, Lz); the box spans [0, L) on each axis.
     ///     boundary: "periodic" or "walls", or one per axis.
     ///     species: N small non-negative integers (labels the engine carries along).
-    ///     rule: "elastic" or "swap".
-    ///     multi: multi-disc collisions.
-    ///     allow_overlaps: accept overlapping discs and move discs outside walls inside.
+    ///     rule: "elastic" (when None) or "swap".
+    ///     multi: multi-disc collisions (False when None).
+    ///     allow_overlaps: accept overlapping discs and move discs outside walls inside (False
+    ///         when None).
     ///
     /// Raises:
-    ///     ValueError: shapes that do not match, non-finite values, overlapping discs, discs
-    ///         outside the box, a bad box.
+    ///     TypeError: an argument that is not numbers (strings, complex numbers, booleans,
+    ///         None), naming the argument.
+    ///     ValueError: shapes that do not match, non-finite values, a kinetic energy that
+    ///         overflows, overlapping discs, discs outside the box, a bad box.
     ///
     /// >>> import numpy as np
     /// >>> sim = edmd.Simulation.from_arrays([[2.0, 5.0], [8.0, 5.0]], [[1.0, 0.0], [-1.0, 0.0]],
@@ -343,35 +500,43 @@ impl PySimulation {
     /// >>> sim.stats["disc_disc"]
     /// 1
     #[staticmethod]
-    #[pyo3(signature = (positions, velocities, radii, masses=None, r#box=None, boundary=None, species=None, rule="elastic", multi=false, allow_overlaps=false))]
+    #[pyo3(signature = (positions, velocities, radii, masses=None, r#box=None, boundary=None, species=None, rule=None, multi=None, allow_overlaps=None))]
     #[allow(clippy::too_many_arguments)]
     fn from_arrays(
         positions: &Bound<'_, PyAny>,
         velocities: &Bound<'_, PyAny>,
         radii: &Bound<'_, PyAny>,
         masses: Option<&Bound<'_, PyAny>>,
-        r#box: Option<Vec<f64>>,
+        r#box: Option<&Bound<'_, PyAny>>,
         boundary: Option<&Bound<'_, PyAny>>,
         species: Option<&Bound<'_, PyAny>>,
-        rule: &str,
-        multi: bool,
-        allow_overlaps: bool,
+        rule: Option<&Bound<'_, PyAny>>,
+        multi: Option<&Bound<'_, PyAny>>,
+        allow_overlaps: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<Self> {
         let input = arrays::Input::new(
             positions, velocities, radii, masses, r#box, boundary, species,
         )?;
-        let opts = options(rule, multi, allow_overlaps)?;
-        let inner = match input.dim {
-            3 => Inner::Three(State::new(
-                input.build::<3>(opts)?,
-                Format::Princeton(ColumnOrder::RadiusMass),
-            )),
-            _ => Inner::Two(State::new(
-                input.build::<2>(opts)?,
-                Format::Princeton(ColumnOrder::RadiusMass),
-            )),
-        };
-        Ok(PySimulation { inner })
+        let opts = options(
+            args::opt_text(rule, "rule")?
+                .as_deref()
+                .unwrap_or("elastic"),
+            args::opt_flag(multi, "multi")?,
+            args::opt_flag(allow_overlaps, "allow_overlaps")?,
+        )?;
+        guarded("from_arrays", || {
+            let inner = match input.dim {
+                3 => Inner::Three(State::new(
+                    input.build::<3>(opts)?,
+                    Format::Princeton(ColumnOrder::RadiusMass),
+                )),
+                _ => Inner::Two(State::new(
+                    input.build::<2>(opts)?,
+                    Format::Princeton(ColumnOrder::RadiusMass),
+                )),
+            };
+            Ok(PySimulation { inner })
+        })
     }
 
     /// Advances the simulation, with the GIL released.
@@ -382,67 +547,109 @@ impl PySimulation {
     /// before `until`. Stopping never changes the trajectory: a run to T in pieces ends in
     /// exactly the state of one run to T, and in the state `edmd run --until T` writes.
     ///
+    /// Every argument is checked before anything is run or written: a refused call leaves
+    /// the simulation and every file as they were. As with `edmd run`, a run takes at most
+    /// 1000000 trajectory frames, callbacks and measurement samples each, and a trajectory
+    /// estimated at more than 10 GB is refused.
+    ///
     /// Args:
     ///     until: end time.
     ///     events: number of events to process.
     ///     trajectory: a file (".xyz" extended XYZ or ".gsd" HOOMD) to which a frame is
-    ///         written at every multiple of `every` (needs `until`).
+    ///         written at every multiple of `every` (needs `until`). It is written under a
+    ///         temporary name and moved into place when the run ends (as `edmd run` writes its
+    ///         files); a run stopped early (Ctrl-C, an exception in the callback) still moves
+    ///         the frames written so far into place.
     ///     every: time between trajectory frames.
     ///     callback: called as `callback(sim)` at every multiple of `callback_every` after the
-    ///         current time (needs `until`); an exception in it stops the run.
+    ///         current time (needs `until`); an exception in it stops the run. It may read and
+    ///         change `sim` (its velocities, its measurements), but calling `sim.run` from it
+    ///         raises `RuntimeError`.
     ///     callback_every: time between callbacks.
+    ///
+    /// Raises:
+    ///     TypeError, ValueError: a bad argument, named in the message.
+    ///     RuntimeError: the simulation is running already (in another thread, or this is a
+    ///         call from the run's own callback).
     ///
     /// >>> sim.run(until=sim.time + 5.0, trajectory="t.gsd", every=0.5)
     #[pyo3(signature = (until=None, *, events=None, trajectory=None, every=None, callback=None, callback_every=None))]
     #[allow(clippy::too_many_arguments)]
     fn run(
         slf: &Bound<'_, Self>,
-        until: Option<f64>,
-        events: Option<u64>,
-        trajectory: Option<PathBuf>,
-        every: Option<f64>,
+        until: Option<&Bound<'_, PyAny>>,
+        events: Option<&Bound<'_, PyAny>>,
+        trajectory: Option<&Bound<'_, PyAny>>,
+        every: Option<&Bound<'_, PyAny>>,
         callback: Option<Bound<'_, PyAny>>,
-        callback_every: Option<f64>,
+        callback_every: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<()> {
-        let py = slf.py();
-        let now = slf.borrow().time();
-        match (until, events) {
+        let until = until.map(|u| args::real(u, "until")).transpose()?;
+        let trajectory = trajectory
+            .map(|p| args::path(p, "trajectory"))
+            .transpose()?;
+        let events = events.map(|e| args::count(e, "events")).transpose()?;
+        let every = every.map(|e| args::real(e, "every")).transpose()?;
+        let callback_every = callback_every
+            .map(|e| args::real(e, "callback_every"))
+            .transpose()?;
+        let now = get(slf)?.time();
+        let until = match (until, events) {
             (Some(_), Some(_)) | (None, None) => {
                 return Err(value_error("run: give either until or events"))
             }
             (None, Some(n)) => {
-                if trajectory.is_some() || every.is_some() || callback.is_some() {
+                if trajectory.is_some()
+                    || every.is_some()
+                    || callback.is_some()
+                    || callback_every.is_some()
+                {
                     return Err(value_error(
-                        "run: trajectory, every and callback need until (they are timed in simulated time)",
+                        "run: trajectory, every, callback and callback_every need until (they are timed in simulated time)",
                     ));
                 }
-                return run_events(slf, n);
+                let _running = Running::claim(slf)?;
+                return guarded("run", || run_events(slf, n));
             }
             (Some(t), None) if !t.is_finite() => {
-                return Err(value_error(format!("until: {t} is not a finite time")))
+                return Err(value_error(format!(
+                    "until: {} is not a finite time",
+                    num(t)
+                )))
             }
             (Some(t), None) if t < now => {
                 return Err(value_error(format!(
-                    "until: {t} is before the current time t = {now}"
+                    "until: {} is before the current time t = {}",
+                    num(t),
+                    num(now)
                 )))
             }
-            _ => {}
-        }
-        let until = until.expect("checked");
-        let positive = |name: &str, dt: Option<f64>| -> PyResult<Option<f64>> {
+            (Some(t), None) => {
+                // The same limit `edmd run --until` has: beyond it floating-point times are
+                // too far apart to place a disc at contact.
+                each!(&get(slf)?.inner, s => s.sim.check_clock(t))
+                    .map_err(|e| value_error(format!("until: {e}")))?;
+                t
+            }
+        };
+        let positive = |name: &str, dt: Option<f64>, what: &str| -> PyResult<Option<f64>> {
             match dt {
-                Some(d) if !(d.is_finite() && d > 0.0) => {
-                    Err(value_error(format!("{name}: {d} is not a positive time")))
-                }
+                Some(d) if !(d.is_finite() && d > 0.0) => Err(value_error(format!(
+                    "{name}: {} is not a positive time",
+                    num(d)
+                ))),
                 Some(d) if (until - now) / d > MAX_STOPS => Err(value_error(format!(
-                    "{name}: {:.3e} stops to t = {until} is too many (at most {MAX_STOPS:.0})",
-                    (until - now) / d
+                    "{name}: {} {what} from t = {} to {} is too many (at most {MAX_STOPS:.0}, as edmd run): {name} must be >= {:e}",
+                    format_args!("{:.3e}", (until - now) / d),
+                    num(now),
+                    num(until),
+                    (until - now) / MAX_STOPS
                 ))),
                 _ => Ok(dt),
             }
         };
-        let every = positive("every", every)?;
-        let callback_every = positive("callback_every", callback_every)?;
+        let every = positive("every", every, "trajectory frames")?;
+        let callback_every = positive("callback_every", callback_every, "callbacks")?;
         if trajectory.is_some() != every.is_some() {
             return Err(value_error("run: trajectory and every go together"));
         }
@@ -451,58 +658,58 @@ impl PySimulation {
         }
         if let Some(c) = &callback {
             if !c.is_callable() {
-                return Err(value_error("callback: not callable"));
+                return Err(PyTypeError::new_err(format!(
+                    "callback: expected a function, got {}",
+                    args::type_name(c)
+                )));
             }
         }
-        let mut traj = match &trajectory {
-            Some(p) => Some(Trajectory::create(p)?),
-            None => None,
+        {
+            let this = get(slf)?;
+            // The sample limit of `edmd run --sample-every`, with its rule and numbers.
+            if let Some(dt) = each!(&this.inner, s => s.measuring.as_ref().map(|m| m.every)) {
+                if (until - now) / dt > MAX_STOPS {
+                    return Err(value_error(format!(
+                        "measure(every={}): {:.3e} samples from t = {} to {} is too many (at most {MAX_STOPS:.0}, as edmd run): every must be >= {:e}",
+                        num(dt),
+                        (until - now) / dt,
+                        num(now),
+                        num(until),
+                        (until - now) / MAX_STOPS
+                    )));
+                }
+            }
+        }
+        // The trajectory's checks, all before the file is created.
+        let kind = trajectory.as_deref().map(trajectory_kind).transpose()?;
+        if let (Some(path), Some(kind), Some(dt)) = (trajectory.as_deref(), kind, every) {
+            // Frames at the multiples of `every` from now to `until`, both included.
+            let frames = ((until / dt).floor() - (now / dt).ceil() + 1.0).max(0.0);
+            check_trajectory(path, kind, frames, &get(slf)?.inner)?;
+        }
+        let running = Running::claim(slf)?;
+        let mut traj = match (&trajectory, kind) {
+            (Some(p), Some(kind)) => Some(Trajectory::create(p, kind)?),
+            _ => None,
         };
-        // Frames at whole multiples of `every` in absolute time (as `edmd run --every`),
-        // callbacks at the multiples of `callback_every` after now.
-        let mut frame_k = every.map_or(0.0, |dt| (now / dt).ceil());
-        let mut call_k = callback_every.map_or(0.0, |dt| (now / dt).floor() + 1.0);
-        let mut span = 0.0;
-        loop {
-            let next_frame = every.map(|dt| frame_k * dt).filter(|t| *t <= until);
-            let next_call = callback_every.map(|dt| call_k * dt).filter(|t| *t <= until);
-            let next_sample = each!(&slf.borrow().inner, s => s
-                .measuring
-                .as_ref()
-                .map(|m| m.next_sample()))
-            .filter(|t| *t <= until);
-            let next = [next_frame, next_call, next_sample]
-                .into_iter()
-                .flatten()
-                .fold(f64::INFINITY, f64::min);
-            let last = next > until;
-            let target = if last { until } else { next };
-            advance(slf, target, &mut span)?;
-            if last {
-                break;
-            }
-            if next_frame == Some(next) {
-                traj.as_mut()
-                    .expect("frames with a trajectory")
-                    .frame(&slf.borrow().inner)?;
-                frame_k += 1.0;
-            }
-            if next_sample == Some(next) {
-                each!(&mut slf.borrow_mut().inner, s => s.sample_if_due());
-            }
-            if next_call == Some(next) {
-                callback
-                    .as_ref()
-                    .expect("calls with a callback")
-                    .call1((slf,))?;
-                call_k += 1.0;
-            }
-        }
-        if let Some(t) = traj {
-            t.finish()?;
-        }
-        let _ = py;
-        Ok(())
+        let result = guarded("run", || {
+            run_until(
+                slf,
+                now,
+                until,
+                every,
+                callback_every,
+                callback.as_ref(),
+                &mut traj,
+            )
+        });
+        // The frames written so far go into place even when the run stopped early (Ctrl-C,
+        // an exception in the callback): they are the trajectory to the state the simulation
+        // is left in. A trajectory that failed to write was dropped (its temporary file
+        // removed).
+        let finished = traj.map_or(Ok(()), Trajectory::finish);
+        drop(running);
+        result.and(finished)
     }
 
     /// Attaches measurements, sampled every `every` of simulated time during `run`.
@@ -512,22 +719,35 @@ impl PySimulation {
     /// and times), "speeds" (against the Maxwell-Boltzmann law), "msd", "species". Events are
     /// watched in Rust; samples are taken at `start + k * every` by `run(until=...)` (not by
     /// `run(events=...)`, which is not timed); `results()` gives what was measured. Attaching
-    /// again starts afresh. Pickles and checkpoints keep the measurements under way.
+    /// again starts afresh. Pickles and checkpoints keep the measurements under way. As with
+    /// `edmd run --sample-every`, a `run` that would take more than 1000000 samples is
+    /// refused.
     ///
     /// >>> sim.measure("pressure", "speeds", every=1.0)
     /// >>> sim.run(until=sim.time + 10.0)
     /// >>> sim.results()["pressure"]["Z"]["value"]
     #[pyo3(signature = (*names, every))]
-    fn measure(&mut self, names: &Bound<'_, PyTuple>, every: f64) -> PyResult<()> {
+    fn measure(
+        slf: &Bound<'_, Self>,
+        names: &Bound<'_, PyTuple>,
+        every: &Bound<'_, PyAny>,
+    ) -> PyResult<()> {
         use clap::ValueEnum;
+        let every = args::real(every, "every")?;
         if !(every.is_finite() && every > 0.0) {
             return Err(value_error(format!(
-                "every: {every} is not a positive time"
+                "every: {} is not a positive time",
+                num(every)
             )));
         }
         let mut which = Vec::new();
         for n in names.iter() {
-            let name: String = n.extract()?;
+            let name: String = n.extract().map_err(|_| {
+                PyTypeError::new_err(format!(
+                    "measure: expected measurement names (str), got {}",
+                    args::type_name(&n)
+                ))
+            })?;
             let m = Measure::from_str(&name, true).map_err(|_| {
                 value_error(format!(
                     "measure: unknown measurement '{name}' (one of: temperature, pressure, collisions, speeds, msd, species)"
@@ -538,16 +758,23 @@ impl PySimulation {
         if which.is_empty() {
             return Err(value_error("measure: name at least one measurement"));
         }
-        each!(&mut self.inner, s => s.measure(&which, every));
-        Ok(())
+        let mut this = get_mut(slf)?;
+        guarded("measure", || {
+            each!(&mut this.inner, s => s.measure(&which, every));
+            Ok(())
+        })
     }
 
     /// What the attached measurements found: a dict with one summary per measurement (the
     /// same numbers as `edmd run --measure --json`, estimates as {"value", "error", "blocks"})
     /// and "tables": the time series and histograms as dicts of numpy arrays, keyed by the
     /// CSV file `edmd run` would write ("temperature", "pressure", "speeds", ...).
-    fn results<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
-        let Some((summary, tables)) = each!(&self.inner, s => s.results()) else {
+    fn results<'py>(slf: &Bound<'py, Self>) -> PyResult<Bound<'py, PyDict>> {
+        let py = slf.py();
+        let this = get(slf)?;
+        let Some((summary, tables)) =
+            guarded("results", || Ok(each!(&this.inner, s => s.results())))?
+        else {
             return Err(value_error(
                 "results: no measurements attached (call measure first)",
             ));
@@ -575,77 +802,61 @@ impl PySimulation {
     /// frame), ".gsd" (a HOOMD GSD frame), ".ck" or ".checkpoint" (an exact checkpoint that
     /// `edmd run` and `Simulation.from_file` continue bit for bit), else the format the
     /// simulation was read in ("course" or "princeton"; "princeton" for arrays and
-    /// generators). The file appears whole or not at all.
+    /// generators). The file appears whole or not at all: it is written under a temporary
+    /// name and moved into place, as `edmd run` writes, and a refused call (a bad format, a
+    /// system the course format cannot hold, a folder) leaves every file as it was.
     ///
     /// >>> sim.write("state.txt")
     #[pyo3(signature = (path, *, format=None))]
-    fn write(&self, path: PathBuf, format: Option<&str>) -> PyResult<()> {
+    fn write(
+        slf: &Bound<'_, Self>,
+        path: &Bound<'_, PyAny>,
+        format: Option<&Bound<'_, PyAny>>,
+    ) -> PyResult<()> {
+        let path = args::path(path, "path")?;
+        let format = args::opt_text(format, "format")?;
+        let this = get(slf)?;
         let kind = match format {
-            Some(f) => f.to_string(),
+            Some(f) => f,
             None => match extension(&path).as_deref() {
                 Some("xyz") | Some("extxyz") => "xyz".into(),
                 Some("gsd") => "gsd".into(),
                 Some("ck") | Some("checkpoint") => "checkpoint".into(),
-                _ => each!(&self.inner, s => format_name(s.format)).into(),
+                _ => each!(&this.inner, s => format_name(s.format)).into(),
             },
         };
-        let mut f = edmd_cli::output::AtomicFile::create(&path).map_err(cli_error)?;
-        let w = f.writer();
-        let written = each!(&self.inner, s => {
-            let discs = s.sim.discs();
-            match kind.as_str() {
-                "xyz" => edmd_io::xyz::write_frame(w, &discs, s.sim.sim_box(), s.sim.time())
-                    .map_err(io_error),
-                "gsd" => gsd::Writer::to(std::io::Cursor::new(Vec::new()))
-                    .and_then(|mut g| {
-                        g.frame(&s.sim)?;
-                        g.finish()
-                    })
-                    .and_then(|c| w.write_all(&c.into_inner()))
-                    .map_err(io_error),
-                "checkpoint" => w.write_all(&checkpoint_bytes(s)).map_err(io_error),
-                other => match format_from_name(other) {
-                    Some(Format::Course) if s.sim.sim_box().lengths.len() == 2 => {
-                        let flat: Vec<edmd_core::Disc> = discs.iter().map(|d| d.with_dim()).collect();
-                        let b = s.sim.sim_box();
-                        let flat_box = edmd_core::SimBox {
-                            lengths: [b.lengths[0], b.lengths[1]],
-                            boundaries: [b.boundaries[0], b.boundaries[1]],
-                        };
-                        match edmd_io::course::fits(&flat, &flat_box, s.sim.barriers()) {
-                            Ok(()) => edmd_io::course::write(w, &flat, &flat_box).map_err(io_error),
-                            Err(why) => Err(value_error(format!(
-                                "{}: cannot write the course format: {why}",
-                                path.display()
-                            ))),
-                        }
-                    }
-                    Some(Format::Course) => Err(value_error(
-                        "the course format holds 2D systems only",
-                    )),
-                    Some(fmt) => edmd_io::write(w, &discs, s.sim.sim_box(), s.sim.barriers(), fmt, s.sim.time())
-                        .map_err(io_error),
-                    None => Err(value_error(format!(
-                        "format: expected 'princeton', 'princeton-mass-radius', 'course', 'xyz', 'gsd' or 'checkpoint', got '{other}'"
-                    ))),
-                },
-            }
-        });
-        written?;
+        // The whole file is made in memory first, so that every refusal comes before the
+        // file system is touched.
+        let bytes = guarded("write", || render(&this.inner, &kind, &path))?;
+        edmd_cli::output::check_file_destinations(&[("path", &path)]).map_err(cli_error)?;
+        let mut f = AtomicFile::create(&path).map_err(cli_error)?;
+        f.writer().write_all(&bytes).map_err(io_error)?;
         f.commit().map_err(cli_error)
     }
 
     /// The exact state as bytes (an `edmd run --checkpoint` file's contents).
-    fn checkpoint<'py>(&self, py: Python<'py>) -> Bound<'py, PyBytes> {
-        let bytes = each!(&self.inner, s => checkpoint_bytes(s));
-        PyBytes::new(py, &bytes)
+    fn checkpoint<'py>(slf: &Bound<'py, Self>) -> PyResult<Bound<'py, PyBytes>> {
+        let this = get(slf)?;
+        let bytes = guarded(
+            "checkpoint",
+            || each!(&this.inner, s => checkpoint_bytes(s)),
+        )?;
+        Ok(PyBytes::new(slf.py(), &bytes))
     }
 
     /// A simulation continued from `checkpoint()` bytes.
     #[staticmethod]
-    fn from_checkpoint(data: &[u8]) -> PyResult<Self> {
-        Ok(PySimulation {
-            inner: from_checkpoint(data, "checkpoint")?,
+    fn from_checkpoint(data: &Bound<'_, PyAny>) -> PyResult<Self> {
+        let data: &[u8] = data.extract().map_err(|_| {
+            PyTypeError::new_err(format!(
+                "data: expected bytes (from checkpoint()), got {}",
+                args::type_name(data)
+            ))
+        })?;
+        guarded("from_checkpoint", || {
+            Ok(PySimulation {
+                inner: from_checkpoint(data, "data")?,
+            })
         })
     }
 
@@ -655,104 +866,127 @@ impl PySimulation {
     ) -> PyResult<(Bound<'py, PyAny>, (Bound<'py, PyBytes>,))> {
         let py = slf.py();
         let restore = py.import("edmd._edmd")?.getattr("_restore")?;
-        Ok((restore, (slf.borrow().checkpoint(py),)))
+        Ok((restore, (Self::checkpoint(slf)?,)))
     }
 
     /// Positions at the current time, folded into the box on periodic axes: (N, dim) float64.
     #[getter]
-    fn positions<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        each!(&self.inner, s => arrays::matrix(py, &s.sim, |i| s.sim.position(i).0))
+    fn positions<'py>(slf: &Bound<'py, Self>) -> PyResult<Bound<'py, PyAny>> {
+        let this = get(slf)?;
+        guarded(
+            "positions",
+            || each!(&this.inner, s => arrays::matrix(slf.py(), &s.sim, |i| s.sim.position(i).0)),
+        )
     }
 
     /// Positions not folded back into the box: the displacement since time 0 is
     /// `unwrapped_positions - initial positions`. (N, dim) float64.
     #[getter]
-    fn unwrapped_positions<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        each!(&self.inner, s => arrays::matrix(py, &s.sim, |i| s.sim.unwrapped_position(i).0))
+    fn unwrapped_positions<'py>(slf: &Bound<'py, Self>) -> PyResult<Bound<'py, PyAny>> {
+        let this = get(slf)?;
+        guarded(
+            "unwrapped_positions",
+            || each!(&this.inner, s => arrays::matrix(slf.py(), &s.sim, |i| s.sim.unwrapped_position(i).0)),
+        )
     }
 
     /// Velocities: (N, dim) float64. Assigning an array of that shape changes every velocity
-    /// at the current time and schedules everything again.
+    /// at the current time and schedules everything again; the new velocities are checked as
+    /// `from_arrays` checks them (finite, with a finite kinetic energy), and a refused array
+    /// raises ValueError and changes nothing.
     #[getter]
-    fn velocities<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        each!(&self.inner, s => arrays::matrix(py, &s.sim, |i| s.sim.velocity(i).0))
+    fn velocities<'py>(slf: &Bound<'py, Self>) -> PyResult<Bound<'py, PyAny>> {
+        let this = get(slf)?;
+        guarded(
+            "velocities",
+            || each!(&this.inner, s => arrays::matrix(slf.py(), &s.sim, |i| s.sim.velocity(i).0)),
+        )
     }
 
     #[setter]
-    fn set_velocities(&mut self, v: &Bound<'_, PyAny>) -> PyResult<()> {
-        each!(&mut self.inner, s => arrays::set_velocities(&mut s.sim, v))
+    fn set_velocities(slf: &Bound<'_, Self>, v: Option<&Bound<'_, PyAny>>) -> PyResult<()> {
+        let Some(v) = v else {
+            return Err(PyTypeError::new_err(
+                "velocities: cannot be deleted; assign an (N, dim) array",
+            ));
+        };
+        let mut this = get_mut(slf)?;
+        guarded(
+            "velocities",
+            || each!(&mut this.inner, s => arrays::set_velocities(&mut s.sim, v)),
+        )
     }
 
     /// Radii: (N,) float64.
     #[getter]
-    fn radii<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
-        let v = each!(&self.inner, s => (0..s.sim.len()).map(|i| s.sim.radius(i)).collect());
-        PyArray1::from_vec(py, v)
+    fn radii<'py>(slf: &Bound<'py, Self>) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        let this = get(slf)?;
+        let v = each!(&this.inner, s => (0..s.sim.len()).map(|i| s.sim.radius(i)).collect());
+        Ok(PyArray1::from_vec(slf.py(), v))
     }
 
     /// Masses: (N,) float64.
     #[getter]
-    fn masses<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
-        let v = each!(&self.inner, s => (0..s.sim.len()).map(|i| s.sim.mass(i)).collect());
-        PyArray1::from_vec(py, v)
+    fn masses<'py>(slf: &Bound<'py, Self>) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        let this = get(slf)?;
+        let v = each!(&this.inner, s => (0..s.sim.len()).map(|i| s.sim.mass(i)).collect());
+        Ok(PyArray1::from_vec(slf.py(), v))
     }
 
     /// Species labels: (N,) uint16.
     #[getter]
-    fn species<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<u16>> {
-        let v = each!(&self.inner, s => (0..s.sim.len()).map(|i| s.sim.species(i)).collect());
-        PyArray1::from_vec(py, v)
+    fn species<'py>(slf: &Bound<'py, Self>) -> PyResult<Bound<'py, PyArray1<u16>>> {
+        let this = get(slf)?;
+        let v = each!(&this.inner, s => (0..s.sim.len()).map(|i| s.sim.species(i)).collect());
+        Ok(PyArray1::from_vec(slf.py(), v))
     }
 
     /// Current time.
     #[getter(time)]
-    fn get_time(&self) -> f64 {
-        self.time()
+    fn get_time(slf: &Bound<'_, Self>) -> PyResult<f64> {
+        Ok(get(slf)?.time())
     }
 
     /// Box lengths, a tuple (Lx, Ly) or (Lx, Ly, Lz).
     #[getter(r#box)]
-    fn get_box<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyTuple>> {
-        PyTuple::new(py, self.lengths())
+    fn get_box<'py>(slf: &Bound<'py, Self>) -> PyResult<Bound<'py, PyTuple>> {
+        PyTuple::new(slf.py(), get(slf)?.lengths())
     }
 
     /// Boundary of each axis: a tuple of "periodic" or "walls".
     #[getter]
-    fn boundary<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyTuple>> {
-        PyTuple::new(py, self.boundaries())
+    fn boundary<'py>(slf: &Bound<'py, Self>) -> PyResult<Bound<'py, PyTuple>> {
+        PyTuple::new(slf.py(), get(slf)?.boundaries())
     }
 
     /// 2 (discs) or 3 (spheres).
     #[getter]
-    fn dim(&self) -> usize {
-        match self.inner {
-            Inner::Two(_) => 2,
-            Inner::Three(_) => 3,
-        }
+    fn dim(slf: &Bound<'_, Self>) -> PyResult<usize> {
+        Ok(get(slf)?.dimension())
     }
 
     /// Number of discs.
     #[getter]
-    fn n(&self) -> usize {
-        each!(&self.inner, s => s.sim.len())
+    fn n(slf: &Bound<'_, Self>) -> PyResult<usize> {
+        Ok(get(slf)?.len())
     }
 
-    fn __len__(&self) -> usize {
-        self.n()
+    fn __len__(slf: &Bound<'_, Self>) -> PyResult<usize> {
+        Ok(get(slf)?.len())
     }
 
     /// Total kinetic energy, sum m v^2 / 2.
     #[getter]
-    fn kinetic_energy(&self) -> f64 {
-        each!(&self.inner, s => s.sim.kinetic_energy())
+    fn kinetic_energy(slf: &Bound<'_, Self>) -> PyResult<f64> {
+        Ok(each!(&get(slf)?.inner, s => s.sim.kinetic_energy()))
     }
 
     /// Event counts so far: a dict with "disc_disc", "wall", "cell_crossing", "stale" and
     /// "barrier" (as `edmd run` reports them).
     #[getter]
-    fn stats<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
-        let st = each!(&self.inner, s => s.sim.stats());
-        let d = PyDict::new(py);
+    fn stats<'py>(slf: &Bound<'py, Self>) -> PyResult<Bound<'py, PyDict>> {
+        let st = each!(&get(slf)?.inner, s => s.sim.stats());
+        let d = PyDict::new(slf.py());
         d.set_item("disc_disc", st.disc_disc)?;
         d.set_item("wall", st.wall)?;
         d.set_item("cell_crossing", st.cell_crossing)?;
@@ -761,24 +995,216 @@ impl PySimulation {
         Ok(d)
     }
 
-    fn __repr__(&self) -> String {
-        let lengths: Vec<String> = self.lengths().iter().map(|l| format!("{l:?}")).collect();
-        let boundaries: Vec<String> = self.boundaries().iter().map(|b| format!("'{b}'")).collect();
-        format!(
-            "Simulation(dim={}, n={}, time={:?}, box=({}), boundary=({}))",
-            self.dim(),
-            self.n(),
-            self.time(),
+    fn __repr__(slf: &Bound<'_, Self>) -> PyResult<String> {
+        let this = get(slf)?;
+        let lengths: Vec<String> = this.lengths().iter().map(|l| num(*l)).collect();
+        let boundaries: Vec<String> = this.boundaries().iter().map(|b| format!("'{b}'")).collect();
+        Ok(format!(
+            "Simulation(dim={}, n={}, time={}, box=({}), boundary=({}))",
+            this.dimension(),
+            this.len(),
+            num(this.time()),
             lengths.join(", "),
             boundaries.join(", ")
-        )
+        ))
+    }
+}
+
+impl PySimulation {
+    /// `from_file`'s work.
+    fn read_file(
+        path: PathBuf,
+        frame: Option<i64>,
+        format: Option<&str>,
+        columns: Option<&str>,
+        rule: Option<&str>,
+        multi: bool,
+        allow_overlaps: bool,
+    ) -> PyResult<Self> {
+        let name = path.to_string_lossy().into_owned();
+        // The file's own rule unless told: swap for course files.
+        let opts = |format: Format| {
+            let default = if format == Format::Course {
+                "swap"
+            } else {
+                "elastic"
+            };
+            options(rule.unwrap_or(default), multi, allow_overlaps)
+        };
+        // The CLI's reader: only a file that starts with the magic number, and bounded in size.
+        if let Some(bytes) = edmd_cli::commands::run::read_checkpoint(&path).map_err(cli_error)? {
+            if frame.is_some()
+                || format.is_some()
+                || columns.is_some()
+                || rule.is_some()
+                || multi
+                || allow_overlaps
+            {
+                return Err(value_error(format!(
+                    "{name}: a checkpoint carries its run's options: drop frame, format, columns, rule, multi and allow_overlaps"
+                )));
+            }
+            return Ok(PySimulation {
+                inner: from_checkpoint(&bytes, &name)?,
+            });
+        }
+        let order = match columns {
+            None | Some("radius-mass") => ColumnOrder::RadiusMass,
+            Some("mass-radius") => ColumnOrder::MassRadius,
+            Some(c) => {
+                return Err(value_error(format!(
+                    "columns: expected 'radius-mass' or 'mass-radius', got '{c}'"
+                )))
+            }
+        };
+        let format = match format {
+            None => None,
+            Some("course") => Some(Format::Course),
+            Some("princeton") => Some(Format::Princeton(order)),
+            Some(f) => {
+                return Err(value_error(format!(
+                    "format: expected 'course' or 'princeton', got '{f}'"
+                )))
+            }
+        };
+        let loaded = edmd_cli::input::read_any(&name, format, order, frame).map_err(cli_error)?;
+        let inner = match loaded {
+            edmd_io::AnyLoaded::Two(sys) => {
+                if columns.is_some() && sys.format == Format::Course {
+                    return Err(value_error(format!(
+                        "{name}: columns applies to the Princeton format, and this is a course file (N, R, Lx Ly, then x y u v)"
+                    )));
+                }
+                Inner::Two(State::new(
+                    built(&name, &sys, opts(sys.format)?)?,
+                    sys.format,
+                ))
+            }
+            edmd_io::AnyLoaded::Three(sys) => Inner::Three(State::new(
+                built(&name, &sys, opts(sys.format)?)?,
+                sys.format,
+            )),
+        };
+        Ok(PySimulation { inner })
+    }
+}
+
+/// The bytes of the file `write` makes: the state in format `kind`.
+fn render(inner: &Inner, kind: &str, path: &Path) -> PyResult<Vec<u8>> {
+    let mut w = Vec::new();
+    each!(inner, s => {
+        let discs = s.sim.discs();
+        match kind {
+            "xyz" => edmd_io::xyz::write_frame(&mut w, &discs, s.sim.sim_box(), s.sim.time())
+                .map_err(io_error)?,
+            "gsd" => {
+                // hoomd-gsd writes files by path: the frame goes to a scratch file, whose
+                // bytes are then written like every other format's. Exact: edmd reads its own
+                // state back bit for bit (float64 copies beside HOOMD's float32 chunks).
+                let dir = tempfile::tempdir().map_err(io_error)?;
+                let scratch = dir.path().join("state.gsd");
+                let mut g = edmd_io::gsd::Writer::create(&scratch, edmd_io::gsd::Precision::Exact)
+                    .map_err(|e| gsd_error(path, e))?;
+                g.append_simulation(&s.sim).map_err(|e| gsd_error(path, e))?;
+                g.finish().map_err(|e| gsd_error(path, e))?;
+                w = std::fs::read(&scratch).map_err(io_error)?;
+            }
+            "checkpoint" => w = checkpoint_bytes(s)?,
+            other => match format_from_name(other) {
+                Some(Format::Course) if s.sim.sim_box().lengths.len() == 2 => {
+                    let flat: Vec<edmd_core::Disc> = discs.iter().map(|d| d.with_dim()).collect();
+                    let b = s.sim.sim_box();
+                    let flat_box = edmd_core::SimBox {
+                        lengths: [b.lengths[0], b.lengths[1]],
+                        boundaries: [b.boundaries[0], b.boundaries[1]],
+                    };
+                    match edmd_io::course::fits(&flat, &flat_box, s.sim.barriers()) {
+                        Ok(()) => edmd_io::course::write(&mut w, &flat, &flat_box).map_err(io_error)?,
+                        Err(why) => {
+                            return Err(value_error(format!(
+                                "{}: cannot write the course format: {why}",
+                                path.display()
+                            )))
+                        }
+                    }
+                }
+                Some(Format::Course) => {
+                    return Err(value_error("format: the course format holds 2D systems only"))
+                }
+                Some(fmt) => edmd_io::write(&mut w, &discs, s.sim.sim_box(), s.sim.barriers(), fmt, s.sim.time())
+                    .map_err(io_error)?,
+                None => {
+                    return Err(value_error(format!(
+                        "format: expected 'princeton', 'princeton-mass-radius', 'course', 'xyz', 'gsd' or 'checkpoint', got '{other}'"
+                    )))
+                }
+            },
+        }
+    });
+    Ok(w)
+}
+
+/// The loop of `run(until=...)`: chunks to the next frame, sample or callback, each written,
+/// taken or called there, then on to `until`. A trajectory that fails to write is dropped (its
+/// temporary file removed) before the error is returned.
+#[allow(clippy::too_many_arguments)]
+fn run_until(
+    slf: &Bound<'_, PySimulation>,
+    now: f64,
+    until: f64,
+    every: Option<f64>,
+    callback_every: Option<f64>,
+    callback: Option<&Bound<'_, PyAny>>,
+    traj: &mut Option<Trajectory>,
+) -> PyResult<()> {
+    // Frames at whole multiples of `every` in absolute time (as `edmd run --every`),
+    // callbacks at the multiples of `callback_every` after now.
+    let mut frame_k = every.map_or(0.0, |dt| (now / dt).ceil());
+    let mut call_k = callback_every.map_or(0.0, |dt| (now / dt).floor() + 1.0);
+    let mut span = 0.0;
+    loop {
+        let next_frame = every.map(|dt| frame_k * dt).filter(|t| *t <= until);
+        let next_call = callback_every.map(|dt| call_k * dt).filter(|t| *t <= until);
+        let next_sample = each!(&borrow(slf)?.inner, s => s
+            .measuring
+            .as_ref()
+            .map(|m| m.next_sample()))
+        .filter(|t| *t <= until);
+        let next = [next_frame, next_call, next_sample]
+            .into_iter()
+            .flatten()
+            .fold(f64::INFINITY, f64::min);
+        let last = next > until;
+        let target = if last { until } else { next };
+        advance(slf, target, &mut span)?;
+        if last {
+            return Ok(());
+        }
+        if next_frame == Some(next) {
+            if let Some(t) = traj.as_mut() {
+                if let Err(e) = t.frame(&borrow(slf)?.inner) {
+                    *traj = None;
+                    return Err(e);
+                }
+            }
+            frame_k += 1.0;
+        }
+        if next_sample == Some(next) {
+            each!(&mut borrow_mut(slf)?.inner, s => s.sample_if_due());
+        }
+        if next_call == Some(next) {
+            if let Some(c) = callback {
+                c.call1((slf,))?;
+            }
+            call_k += 1.0;
+        }
     }
 }
 
 /// A `ValueError` naming the discs when the run's clock stopped advancing (the engine then
 /// stays at that time: a box filled with touching discs, say).
 fn stalled(slf: &Bound<'_, PySimulation>) -> PyResult<()> {
-    match each!(&slf.borrow().inner, s => s.stalled()) {
+    match each!(&borrow(slf)?.inner, s => s.stalled()) {
         Some(why) => Err(value_error(why)),
         None => Ok(()),
     }
@@ -789,7 +1215,7 @@ fn advance(slf: &Bound<'_, PySimulation>, t: f64, span: &mut f64) -> PyResult<()
     let py = slf.py();
     loop {
         let done = {
-            let mut guard = slf.borrow_mut();
+            let mut guard = borrow_mut(slf)?;
             let inner = &mut guard.inner;
             py.detach(|| each!(inner, s => s.chunk_until(t, span)))
         };
@@ -808,7 +1234,7 @@ fn run_events(slf: &Bound<'_, PySimulation>, n: u64) -> PyResult<()> {
     while left > 0 {
         let k = left.min(EVENT_CHUNK);
         let got = {
-            let mut guard = slf.borrow_mut();
+            let mut guard = borrow_mut(slf)?;
             let inner = &mut guard.inner;
             py.detach(|| each!(inner, s => s.run_events(k)))
         };
@@ -824,7 +1250,7 @@ fn run_events(slf: &Bound<'_, PySimulation>, n: u64) -> PyResult<()> {
 
 /// Unpickles a simulation (see `Simulation.__reduce__`).
 #[pyfunction]
-fn _restore(data: &[u8]) -> PyResult<PySimulation> {
+fn _restore(data: &Bound<'_, PyAny>) -> PyResult<PySimulation> {
     PySimulation::from_checkpoint(data)
 }
 
@@ -857,7 +1283,8 @@ fn _generate(
     multi: bool,
 ) -> PyResult<PySimulation> {
     use edmd_cli::commands::gen::{make, GenArgs, Generated};
-    let dim = edmd_cli::args::parse_dim(&dim.to_string()).map_err(value_error)?;
+    let dim = edmd_cli::args::parse_dim(&dim.to_string())
+        .map_err(|e| value_error(format!("dim: {e}")))?;
     let boundary = parse_boundary(boundary, "boundary")?;
     let opts = options(rule, multi, false)?;
     let args = GenArgs {
@@ -882,7 +1309,34 @@ fn _generate(
         fraction_large,
         spread,
     };
-    match make(&args).map_err(cli_error)? {
+    // `edmd gen`'s messages, with the Python argument names instead of its flags.
+    let message = |e: anyhow::Error| {
+        let mut m = format!("{e:#}").replace('\n', " ");
+        for flag in [
+            "fraction-large",
+            "size-ratio",
+            "big-radius",
+            "big-mass",
+            "radius",
+            "speed",
+            "mass",
+            "kt",
+            "packing",
+            "boundary",
+            "angle",
+            "impact",
+            "region",
+            "spread",
+            "course",
+            "seed",
+            "dim",
+            "n",
+        ] {
+            m = m.replace(&format!("--{flag}"), &flag.replace('-', "_"));
+        }
+        value_error(m)
+    };
+    guarded("gen", || match make(&args).map_err(message)? {
         Generated::Two(system, format) => {
             let sim = Simulation::from_system(&system, opts)
                 .map_err(|e| value_error(format!("gen {kind}: {e}")))?;
@@ -897,7 +1351,7 @@ fn _generate(
                 inner: Inner::Three(State::new(sim, Format::Princeton(ColumnOrder::RadiusMass))),
             })
         }
-    }
+    })
 }
 
 /// The compiled part of the `edmd` package.

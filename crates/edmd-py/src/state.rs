@@ -24,6 +24,10 @@ pub struct State<const D: usize> {
     /// The format `write` uses when neither a format nor a known extension is given.
     pub format: Format,
     pub measuring: Option<Measuring<D>>,
+    /// The thread whose `run` is under way, if one is. Between the chunks of a run (and in
+    /// its callbacks) the Python object is not borrowed, so this is what tells another thread,
+    /// or a callback calling `run`, that the simulation is busy.
+    pub running: Option<std::thread::ThreadId>,
 }
 
 impl<const D: usize> State<D> {
@@ -32,14 +36,15 @@ impl<const D: usize> State<D> {
             sim,
             format,
             measuring: None,
+            running: None,
         }
     }
 
     /// The state's checkpoint bytes, measurements included: `edmd run` continues them, and
     /// pickles are made of them.
-    pub fn checkpoint(&self) -> Vec<u8> {
+    pub fn checkpoint(&self) -> Result<Vec<u8>, String> {
         edmd_cli::commands::run::checkpoint_bytes(&self.sim, self.format, self.measuring.as_ref())
-            .expect("the run's settings encode")
+            .map_err(|e| format!("checkpoint: {e:#}"))
     }
 
     /// A state from checkpoint bytes (measurements included).
@@ -49,6 +54,7 @@ impl<const D: usize> State<D> {
             sim,
             format,
             measuring,
+            running: None,
         })
     }
 
