@@ -26,7 +26,7 @@ const HUGE_FROM: usize = 2 * HUGE_PAGE;
 /// no effect on results). Call it before that memory is first written: pages are chosen when
 /// first touched. For the large arrays read at random by the event loop (the records of the
 /// spheres around each event): with 4 KiB pages, a record array past the TLB's reach (about
-/// 8 MB) costs a page walk on most reads (BENCHMARKS.md, eleventh session). Small arrays are
+/// 8 MB) costs a page walk on most reads (BENCHMARKS.md). Small arrays are
 /// left alone.
 pub(crate) fn huge_pages<T>(v: &mut Vec<T>) {
     #[cfg(target_os = "linux")]

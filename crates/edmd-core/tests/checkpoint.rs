@@ -103,7 +103,7 @@ fn restarts_are_exact_for_spheres() {
     ));
 }
 
-// Version 1 (sixth session) lacked the stall watcher's place in its chunk (16 bytes after the
+// Version 1 lacked the stall watcher's place in its chunk (16 bytes after the
 // count of events in a row): it is still read, as if at a chunk's start. (Version 3 added the
 // spheres' second events, a section 2D checkpoints do not have.)
 #[test]
@@ -203,7 +203,7 @@ fn head_on<const D: usize>() -> [Disc<D>; 2] {
     ]
 }
 
-// Format 3 (thirteenth session) carries each sphere's second-earliest event, on which a stale
+// Format 3 carries each sphere's second-earliest event, on which a stale
 // event falls back without a scan. Two spheres in a walled box of one cell per axis closing
 // head on: each has the collision at t = 2.5 ((8 - 2 - 1) / 2) first and its wall contact at
 // t = 7.5 (x = 9.5 and x = 0.5) second. The second events are the payload's last section
@@ -377,7 +377,7 @@ fn the_mean_kinetic_energy_carried_is_the_discs_own() {
     assert!(Simulation::<2>::from_checkpoint(&reframed(close)).is_ok());
 }
 
-/// Found by a new user's fuzzing of checkpoints (fourteenth session): a disc's position was
+/// Found by a new user's fuzzing of checkpoints: a disc's position was
 /// read without asking whether the cell it is filed in holds it. One byte moved a sphere
 /// across the box, into other spheres; the scans of its new neighbours, which look in their
 /// own cells, never saw it, so it overlapped them for the rest of the run, and `edmd run

@@ -583,7 +583,7 @@ fn pack_checkpoint_with_a_particle_far_faster_than_the_rescaling_leaves_is_refus
     }
 }
 
-/// Found by fuzzing (`read_pack_checkpoint`, in a CI dry run of the eleventh session): a
+/// Found by fuzzing (`read_pack_checkpoint`, in a CI dry run): a
 /// packing checkpoint whose scale was 2^768 times larger and whose particles' base diameters
 /// 2^768 times smaller than a genuine one's had the same particle sizes, and so passed every
 /// check, but its packing fraction was `0 * inf`, NaN (the base diameters' total area

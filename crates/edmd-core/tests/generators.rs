@@ -443,7 +443,7 @@ fn generators_refuse_runs_that_never_finish() {
 
 /// Fluids and mixtures come out in the order of the cells (a largest diameter wide, the last
 /// axis slowest) that hold them, so that neighbours sit near each other in memory
-/// (BENCHMARKS.md, twelfth session): each particle's cell is at or after the one before it,
+/// (BENCHMARKS.md): each particle's cell is at or after the one before it,
 /// and most particles share a row of cells with the one before.
 #[test]
 fn fluids_and_mixtures_come_out_in_cell_order() {

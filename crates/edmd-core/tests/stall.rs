@@ -215,7 +215,7 @@ fn scrambled(k: usize) -> Vec<[f64; 2]> {
     (0..k).map(|_| [next(), next()]).collect()
 }
 
-/// Regression (issue 10, found again by a review in the eighth session): a 20 x 20 lattice of
+/// Regression (issue 10, found again by a review): a 20 x 20 lattice of
 /// touching discs of radius 0.025 filling the unit box, with random velocities, and a column of
 /// 20 such discs filling its height. Their events are not at one instant: the discs collide
 /// across gaps of rounding size (1e-17), so millions of events moved the clock by 1e-12 in all

@@ -584,8 +584,8 @@ mod tests {
                 2,
                 "file ends before disc 2 of 3",
             ),
-            // A sphere's line where the directive is misspelt (a new user's walk, fourteenth
-            // session: the message said nothing of the dimension).
+            // A sphere's line where the directive is misspelt (found by a new user's walk: the
+            // message said nothing of the dimension).
             (
                 "1\n# edmd dimm 3\n1 1 1 0 0 0 .1 1 0 0 0\n",
                 3,

@@ -476,7 +476,7 @@ impl<const D: usize> CellGrid<D> {
     /// from the grid's edges the shift is `-0.0` (`x + -0.0` is `x` for every `x`, so the
     /// compiler drops the addition, where `x + 0.0` turns `-0.0` into `0.0` and must be kept);
     /// near them the neighbour cells are worked out once per axis (a third of the cells at
-    /// N = 4000 touch an edge; BENCHMARKS.md, seventh session).
+    /// N = 4000 touch an edge; BENCHMARKS.md).
     #[inline(always)]
     pub(crate) fn for_each_cell_near(&self, c: CellCoord<D>, mut f: impl FnMut(usize, Vector<D>)) {
         if self.interior(c) {
@@ -610,7 +610,7 @@ impl<const D: usize> CellGrid<D> {
 /// `FnMut(usize, Vector<D>)` is one; the engine's prediction implements it on a type of its
 /// own, whose `visit` is inlined by force: a closure is inlined at the compiler's discretion,
 /// and outlined (its two call sites in a scan, its body grown) it runs without the x86-64-v3
-/// loop's instruction set (BENCHMARKS.md, twelfth and thirteenth sessions).
+/// loop's instruction set (BENCHMARKS.md).
 pub trait Visit<const D: usize> {
     /// Disc `j`, at `shift` from where it is filed.
     fn visit(&mut self, j: usize, shift: Vector<D>);

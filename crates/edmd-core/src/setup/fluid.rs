@@ -430,7 +430,7 @@ fn make<const D: usize>(
 /// Puts `discs` in the order of the cells (about a diameter wide, the last axis slowest) that
 /// hold them, so that the discs around any one sit near it in memory: a run then reads fewer
 /// cache lines per prediction. In random order, as the lattice's random sites left them, a
-/// fluid of 10^5 spheres ran 10 to 25% slower (BENCHMARKS.md, twelfth session). Discs in one
+/// fluid of 10^5 spheres ran 10 to 25% slower (BENCHMARKS.md). Discs in one
 /// cell keep their order (a stable sort), so the result is a function of the discs alone.
 pub(crate) fn in_cell_order<const D: usize>(discs: &mut [Disc<D>], sim_box: &SimBox<D>) {
     let width = discs.iter().map(|d| 2.0 * d.radius).fold(0.0, f64::max);

@@ -302,7 +302,7 @@ impl<const D: usize> Simulation<D> {
     /// prediction when it kept one, without a scan: `i` has not changed course since, the
     /// partner's new course was checked against `i` when the partner was predicted again, and
     /// every other disc that changed course since was too; the rest were seen by `i`'s
-    /// prediction, none before the second event (BENCHMARKS.md, thirteenth session). Otherwise
+    /// prediction, none before the second event (BENCHMARKS.md). Otherwise
     /// (2D, whose trajectories stay as they were, or no second event) `i` is predicted again.
     #[inline(always)]
     pub(super) fn discard_if_stale(&mut self, i: usize) -> bool {

@@ -68,7 +68,7 @@ impl<const D: usize> Simulation<D> {
     /// way. For checking checkpoints: a pending event is never later, and a pending event of
     /// one of these kinds is this one, to the bit. It repeats the start of `predict_with`,
     /// which must stay in step with it: calling it from there instead cost 0.7% more
-    /// instructions per collision and measured slower in 2D (BENCHMARKS.md, twelfth session).
+    /// instructions per collision and measured slower in 2D (BENCHMARKS.md).
     pub(super) fn own_event(&self, i: usize) -> (f64, Pending) {
         let bi = self.body[i];
         let (mut best_t, mut best) = (f64::INFINITY, Pending::Nothing);
@@ -164,7 +164,7 @@ impl<const D: usize> Simulation<D> {
         }
         // Every candidate's contact terms are worked out, and those that meet are kept, without
         // branches (whether a pair meets is a coin toss for the branch predictor); only the
-        // kept ones pay for the square root and the division (BENCHMARKS.md, tenth session).
+        // kept ones pay for the square root and the division (BENCHMARKS.md).
         let mut nearest = Nearest::new(t0, best_t, &mut self.kept);
         let c = self.grid.cell_of(i);
         #[cfg(target_arch = "x86_64")]
