@@ -201,7 +201,7 @@ fn spheres_under_xvfb() {
         Command::new("xvfb-run")
             .args(["-a", "-s", "-screen 0 1280x800x24", BIN])
             .arg(&file)
-            .args(["--quit-after", "3", "--screenshot"])
+            .args(["--fps-report", "--quit-after", "3", "--screenshot"])
             .arg(&shot)
             .env_remove("WAYLAND_DISPLAY"),
         Duration::from_secs(120),
