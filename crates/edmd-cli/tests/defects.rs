@@ -5,7 +5,7 @@ use std::path::Path;
 use std::process::{Command, Stdio};
 use std::time::Duration;
 
-use crate::support::{example, run, shared, write};
+use crate::support::{example, names, run, shared, write};
 
 const P10_LINE: &str = "0.5 0.5 0.01 0 0.05 1 1 2 3";
 
@@ -16,16 +16,6 @@ fn refused_with(out: &std::process::Output, expect: &str) {
     assert_eq!(err.lines().count(), 1, "{err}");
     assert!(err.contains(expect), "expected {expect:?} in {err}");
     assert!(!err.contains("panicked"), "{err}");
-}
-
-/// The names in a folder.
-fn names(dir: &Path) -> Vec<String> {
-    let mut v: Vec<String> = std::fs::read_dir(dir)
-        .unwrap()
-        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
-        .collect();
-    v.sort();
-    v
 }
 
 /// A small Princeton file that ships with the project, for the tests of options and outputs.

@@ -4,17 +4,7 @@
 
 use std::path::Path;
 
-use crate::support::{example, ok_stdout, refused, run, summary};
-
-/// The entries of `dir`, sorted.
-fn names(dir: &Path) -> Vec<String> {
-    let mut v: Vec<String> = std::fs::read_dir(dir)
-        .unwrap()
-        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
-        .collect();
-    v.sort();
-    v
-}
+use crate::support::{example, names, ok_stdout, refused, run, summary};
 
 /// `edmd ARGS` run in `dir`.
 fn edmd_in(dir: &Path, args: &[&str]) -> std::process::Output {

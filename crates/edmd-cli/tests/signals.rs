@@ -7,17 +7,7 @@ use std::path::Path;
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
-use crate::support::example;
-
-/// The entries of `dir`, sorted.
-fn names(dir: &Path) -> Vec<String> {
-    let mut v: Vec<String> = std::fs::read_dir(dir)
-        .unwrap()
-        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
-        .collect();
-    v.sort();
-    v
-}
+use crate::support::{example, names};
 
 /// Starts `edmd ARGS` in `dir`, sends SIGTERM after `wait`, and returns the exit code, the
 /// seconds from the signal to the end, and standard error.

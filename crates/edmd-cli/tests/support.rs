@@ -43,6 +43,16 @@ macro_rules! shared {
 }
 pub(crate) use shared;
 
+/// The names of the entries of `dir`, sorted: what a command left in a folder.
+pub fn names(dir: &std::path::Path) -> Vec<String> {
+    let mut v: Vec<String> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    v.sort();
+    v
+}
+
 /// Path of one of the project's own example files.
 pub fn example(name: &str) -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))

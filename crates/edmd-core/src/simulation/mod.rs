@@ -182,21 +182,6 @@ impl<const D: usize> Simulation<D> {
         Self::with_barriers(&system.discs, system.sim_box, &system.barriers, options)
     }
 
-    /// Builds and validates a simulation whose state is at time `t0` (a state file that carries
-    /// its time): the discs are where they are at `t0` and the run goes on from there. Overlaps
-    /// are judged as a run judges them at `t0` (the rounding allowance of [`Self::overlaps`]
-    /// grows with the time), so a state that a run wrote at `t0` reads back. Refused for a time
-    /// that is not finite or is negative, and from [`Self::clock_limit`] on.
-    pub fn with_barriers_at(
-        discs: &[Disc<D>],
-        sim_box: SimBox<D>,
-        barriers: &[Barrier],
-        options: Options,
-        t0: f64,
-    ) -> Result<Self, Error> {
-        Self::build(discs, sim_box, barriers, options, t0)
-    }
-
     /// Builds and validates a simulation with internal barriers at time 0.
     pub fn with_barriers(
         discs: &[Disc<D>],
@@ -204,10 +189,15 @@ impl<const D: usize> Simulation<D> {
         barriers: &[Barrier],
         options: Options,
     ) -> Result<Self, Error> {
-        Self::build(discs, sim_box, barriers, options, 0.0)
+        Self::with_barriers_at(discs, sim_box, barriers, options, 0.0)
     }
 
-    fn build(
+    /// Builds and validates a simulation whose state is at time `t0` (a state file that carries
+    /// its time): the discs are where they are at `t0` and the run goes on from there. Overlaps
+    /// are judged as a run judges them at `t0` (the rounding allowance of [`Self::overlaps`]
+    /// grows with the time), so a state that a run wrote at `t0` reads back. Refused for a time
+    /// that is not finite or is negative, and from [`Self::clock_limit`] on.
+    pub fn with_barriers_at(
         discs: &[Disc<D>],
         sim_box: SimBox<D>,
         barriers: &[Barrier],
