@@ -5,7 +5,7 @@ use std::path::Path;
 use std::process::{Command, Stdio};
 use std::time::Duration;
 
-use crate::support::{example, names, run, shared, write};
+use crate::support::{example, names, run, shared, terminated, write};
 
 const P10_LINE: &str = "0.5 0.5 0.01 0 0.05 1 1 2 3";
 
@@ -325,8 +325,9 @@ fn sigterm_during_a_long_render_frame_stops_within_seconds() {
     for out in ["movie.gif", "frames/"] {
         let dir = tempfile::tempdir().unwrap();
         std::fs::copy(shared!("algs4/p2000.txt"), dir.path().join("in.txt")).unwrap();
-        let mut child = Command::new(env!("CARGO_BIN_EXE_edmd"))
-            .args([
+        let (code, _, err) = terminated(
+            dir.path(),
+            &[
                 "render",
                 "in.txt",
                 "-o",
@@ -337,35 +338,10 @@ fn sigterm_during_a_long_render_frame_stops_within_seconds() {
                 "1",
                 "--time-scale",
                 "50000",
-            ])
-            .current_dir(dir.path())
-            .stdin(Stdio::null())
-            .stdout(Stdio::null())
-            .stderr(Stdio::piped())
-            .spawn()
-            .unwrap();
-        std::thread::sleep(Duration::from_millis(1000));
-        assert!(child.try_wait().unwrap().is_none(), "render ended early");
-        let sent = std::time::Instant::now();
-        assert!(Command::new("kill")
-            .args(["-TERM", &child.id().to_string()])
-            .status()
-            .unwrap()
-            .success());
-        let status = loop {
-            if let Some(s) = child.try_wait().unwrap() {
-                break s;
-            }
-            if sent.elapsed() > Duration::from_secs(5) {
-                let _ = child.kill();
-                let _ = child.wait();
-                panic!("{out}: render did not stop within 5 s of SIGTERM");
-            }
-            std::thread::sleep(Duration::from_millis(20));
-        };
-        let mut err = String::new();
-        std::io::Read::read_to_string(&mut child.stderr.take().unwrap(), &mut err).unwrap();
-        assert!(!status.success(), "{out}");
+            ],
+            Duration::from_millis(1000),
+        );
+        assert_ne!(code, Some(0), "{out}");
         assert!(err.contains("interrupted"), "{out}: {err}");
         assert_eq!(names(dir.path()), ["in.txt"], "{out}");
     }

@@ -3,50 +3,9 @@
 //! (the whole span was one `run_until`), `run` and `render` ended with status 1 and `soak`
 //! with 2 (a user error); a signal before a command installed its handler killed it.
 
-use std::path::Path;
-use std::process::{Command, Stdio};
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
-use crate::support::{example, names};
-
-/// Starts `edmd ARGS` in `dir`, sends SIGTERM after `wait`, and returns the exit code, the
-/// seconds from the signal to the end, and standard error.
-fn terminated(dir: &Path, args: &[&str], wait: Duration) -> (Option<i32>, f64, String) {
-    let mut child = Command::new(env!("CARGO_BIN_EXE_edmd"))
-        .args(args)
-        .current_dir(dir)
-        .stdin(Stdio::null())
-        .stdout(Stdio::null())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
-    std::thread::sleep(wait);
-    assert!(
-        child.try_wait().unwrap().is_none(),
-        "{args:?} ended before the signal: make it longer"
-    );
-    let sent = Instant::now();
-    assert!(Command::new("kill")
-        .args(["-TERM", &child.id().to_string()])
-        .status()
-        .unwrap()
-        .success());
-    let status = loop {
-        if let Some(s) = child.try_wait().unwrap() {
-            break s;
-        }
-        if sent.elapsed() > Duration::from_secs(5) {
-            let _ = child.kill();
-            let _ = child.wait();
-            panic!("{args:?} did not end within 5 s of SIGTERM");
-        }
-        std::thread::sleep(Duration::from_millis(20));
-    };
-    let seconds = sent.elapsed().as_secs_f64();
-    let mut err = String::new();
-    std::io::Read::read_to_string(&mut child.stderr.take().unwrap(), &mut err).unwrap();
-    (status.code(), seconds, err)
-}
+use crate::support::{example, names, terminated};
 
 #[test]
 fn every_long_command_stops_on_sigterm_with_status_130_and_no_temporary_file() {

@@ -126,3 +126,46 @@ pub fn refused(out: &Output, words: &[&str]) {
         assert!(err.contains(w), "{err:?} lacks {w:?}");
     }
 }
+
+/// Starts `edmd ARGS` in `dir`, sends SIGTERM after `wait`, and returns the exit code, the
+/// seconds from the signal to the end, and standard error.
+pub fn terminated(
+    dir: &std::path::Path,
+    args: &[&str],
+    wait: std::time::Duration,
+) -> (Option<i32>, f64, String) {
+    let mut child = Command::new(env!("CARGO_BIN_EXE_edmd"))
+        .args(args)
+        .current_dir(dir)
+        .stdin(Stdio::null())
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    std::thread::sleep(wait);
+    assert!(
+        child.try_wait().unwrap().is_none(),
+        "{args:?} ended before the signal: make it longer"
+    );
+    let sent = std::time::Instant::now();
+    assert!(Command::new("kill")
+        .args(["-TERM", &child.id().to_string()])
+        .status()
+        .unwrap()
+        .success());
+    let status = loop {
+        if let Some(s) = child.try_wait().unwrap() {
+            break s;
+        }
+        if sent.elapsed() > std::time::Duration::from_secs(5) {
+            let _ = child.kill();
+            let _ = child.wait();
+            panic!("{args:?} did not end within 5 s of SIGTERM");
+        }
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    };
+    let seconds = sent.elapsed().as_secs_f64();
+    let mut err = String::new();
+    std::io::Read::read_to_string(&mut child.stderr.take().unwrap(), &mut err).unwrap();
+    (status.code(), seconds, err)
+}
