@@ -5,7 +5,7 @@ use std::path::Path;
 use std::process::{Command, Stdio};
 use std::time::Duration;
 
-use crate::support::{example, names, run, shared, terminated, write};
+use crate::support::{example, names, run, shared, signalled, write};
 
 const P10_LINE: &str = "0.5 0.5 0.01 0 0.05 1 1 2 3";
 
@@ -234,46 +234,13 @@ fn input_named_like_a_measurement_file_is_not_overwritten() {
     );
 }
 
-/// Starts `edmd ARGS` in `dir`, sends it `signal` after `wait`, and returns its exit status.
-fn signalled(dir: &Path, args: &[&str], signal: &str, wait: Duration) -> std::process::ExitStatus {
-    let mut child = Command::new(env!("CARGO_BIN_EXE_edmd"))
-        .args(args)
-        .current_dir(dir)
-        .stdin(Stdio::null())
-        .stdout(Stdio::null())
-        .stderr(Stdio::null())
-        .spawn()
-        .unwrap();
-    std::thread::sleep(wait);
-    assert!(
-        child.try_wait().unwrap().is_none(),
-        "the command ended before the signal: make it longer"
-    );
-    let ok = Command::new("kill")
-        .args([signal, &child.id().to_string()])
-        .status()
-        .unwrap();
-    assert!(ok.success());
-    let deadline = std::time::Instant::now() + Duration::from_secs(30);
-    loop {
-        if let Some(s) = child.try_wait().unwrap() {
-            return s;
-        }
-        if std::time::Instant::now() > deadline {
-            let _ = child.kill();
-            panic!("the command did not end within 30 s of {signal}");
-        }
-        std::thread::sleep(Duration::from_millis(50));
-    }
-}
-
 // 3. SIGTERM during `run` left `.out.txt.edmd-PID.tmp` and `.traj.xyz.edmd-PID.tmp`.
 #[test]
 fn sigterm_during_run_leaves_no_temporary_files() {
     let dir = tempfile::tempdir().unwrap();
     let input = dir.path().join("in.txt");
     std::fs::copy(shared!("algs4/p2000.txt"), &input).unwrap();
-    let status = signalled(
+    let (code, _, _) = signalled(
         dir.path(),
         &[
             "run",
@@ -290,7 +257,7 @@ fn sigterm_during_run_leaves_no_temporary_files() {
         "-TERM",
         Duration::from_millis(1500),
     );
-    assert!(!status.success());
+    assert_ne!(code, Some(0));
     assert_eq!(names(dir.path()), ["in.txt"]);
 }
 
@@ -304,7 +271,7 @@ fn signals_during_render_leave_no_partial_output() {
     ] {
         let dir = tempfile::tempdir().unwrap();
         std::fs::copy(shared!("algs4/p2000.txt"), dir.path().join("in.txt")).unwrap();
-        let status = signalled(
+        let (code, _, _) = signalled(
             dir.path(),
             &[
                 "render", "in.txt", "-o", out, "--until", "3000", "--fps", "25",
@@ -312,7 +279,7 @@ fn signals_during_render_leave_no_partial_output() {
             signal,
             Duration::from_millis(1500),
         );
-        assert!(!status.success(), "{signal} {out}");
+        assert_ne!(code, Some(0), "{signal} {out}");
         assert_eq!(names(dir.path()), ["in.txt"], "{signal} {out}");
     }
 }
@@ -325,7 +292,7 @@ fn sigterm_during_a_long_render_frame_stops_within_seconds() {
     for out in ["movie.gif", "frames/"] {
         let dir = tempfile::tempdir().unwrap();
         std::fs::copy(shared!("algs4/p2000.txt"), dir.path().join("in.txt")).unwrap();
-        let (code, _, err) = terminated(
+        let (code, _, err) = signalled(
             dir.path(),
             &[
                 "render",
@@ -339,6 +306,7 @@ fn sigterm_during_a_long_render_frame_stops_within_seconds() {
                 "--time-scale",
                 "50000",
             ],
+            "-TERM",
             Duration::from_millis(1000),
         );
         assert_ne!(code, Some(0), "{out}");

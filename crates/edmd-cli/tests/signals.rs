@@ -5,7 +5,7 @@
 
 use std::time::Duration;
 
-use crate::support::{example, names, terminated};
+use crate::support::{example, names, signalled};
 
 #[test]
 fn every_long_command_stops_on_sigterm_with_status_130_and_no_temporary_file() {
@@ -81,7 +81,8 @@ fn every_long_command_stops_on_sigterm_with_status_130_and_no_temporary_file() {
     ];
     for (what, args, says, left) in cases {
         let dir = tempfile::tempdir().unwrap();
-        let (code, seconds, err) = terminated(dir.path(), &args, Duration::from_millis(1500));
+        let (code, seconds, err) =
+            signalled(dir.path(), &args, "-TERM", Duration::from_millis(1500));
         assert_eq!(code, Some(130), "{what}: {err}");
         let last = err.trim_end().lines().last().unwrap_or_default();
         assert!(

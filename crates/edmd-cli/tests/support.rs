@@ -127,11 +127,13 @@ pub fn refused(out: &Output, words: &[&str]) {
     }
 }
 
-/// Starts `edmd ARGS` in `dir`, sends SIGTERM after `wait`, and returns the exit code, the
-/// seconds from the signal to the end, and standard error.
-pub fn terminated(
+/// Starts `edmd ARGS` in `dir`, sends it `signal` (`-TERM`, `-INT`, ...) after `wait`, and
+/// returns the exit code, the seconds from the signal to the end, and standard error. Fails
+/// if the command ended before the signal or is still running 5 s after it.
+pub fn signalled(
     dir: &std::path::Path,
     args: &[&str],
+    signal: &str,
     wait: std::time::Duration,
 ) -> (Option<i32>, f64, String) {
     let mut child = Command::new(env!("CARGO_BIN_EXE_edmd"))
@@ -149,7 +151,7 @@ pub fn terminated(
     );
     let sent = std::time::Instant::now();
     assert!(Command::new("kill")
-        .args(["-TERM", &child.id().to_string()])
+        .args([signal, &child.id().to_string()])
         .status()
         .unwrap()
         .success());
@@ -160,7 +162,7 @@ pub fn terminated(
         if sent.elapsed() > std::time::Duration::from_secs(5) {
             let _ = child.kill();
             let _ = child.wait();
-            panic!("{args:?} did not end within 5 s of SIGTERM");
+            panic!("{args:?} did not end within 5 s of {signal}");
         }
         std::thread::sleep(std::time::Duration::from_millis(20));
     };
