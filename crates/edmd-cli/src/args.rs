@@ -2,7 +2,9 @@
 
 use std::path::PathBuf;
 
-use clap::{Args, Parser, Subcommand, ValueEnum};
+use clap::{Args, Parser, Subcommand};
+
+pub use edmd::options::*;
 
 /// Exact event-driven molecular dynamics of hard discs.
 #[derive(Debug, Parser)]
@@ -38,51 +40,13 @@ pub enum Command {
         args: Vec<String>,
     },
     /// Generate a configuration (the Princeton data sets, fluids, mixtures).
-    Gen(crate::commands::gen::GenArgs),
+    Gen(edmd::gen::GenArgs),
     /// Compress to a jammed packing (Lubachevsky-Stillinger: the particles grow while they
     /// move), or to a packing fraction below jamming.
-    Pack(crate::commands::pack::PackArgs),
+    Pack(edmd::pack::PackArgs),
     /// Run one of the experiments (writes CSV files and plots).
     #[command(subcommand)]
     Experiment(crate::commands::experiment::Experiment),
-}
-
-/// Input file format.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
-pub enum FormatArg {
-    /// Detect from the second line (one number: course; nine: Princeton).
-    Auto,
-    /// The "Collisions" course format: N, R, Lx Ly, then x y u v per disc.
-    Course,
-    /// The Princeton format: N, then rx ry vx vy radius mass r g b per disc.
-    Princeton,
-}
-
-/// Column order of the Princeton format.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
-pub enum ColumnsArg {
-    /// `radius mass`, as in the published data files.
-    RadiusMass,
-    /// `mass radius`, as in the assignment's prose.
-    MassRadius,
-}
-
-/// Collision rule.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
-pub enum RuleArg {
-    /// Impulse along the line of centres (any masses).
-    Elastic,
-    /// The two discs exchange velocities (course rule; equal masses).
-    Swap,
-}
-
-/// Boundary kind.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
-pub enum BoundaryArg {
-    /// Periodic in both directions.
-    Periodic,
-    /// Reflecting walls.
-    Walls,
 }
 
 /// `edmd run`.
@@ -143,7 +107,7 @@ pub struct RunArgs {
     /// species. Their summaries go into the run's summary, and their time series to CSV files
     /// in --out-dir when it is given (none are written without it).
     #[arg(long, value_enum, value_delimiter = ',')]
-    pub measure: Vec<crate::commands::measurements::Measure>,
+    pub measure: Vec<edmd::measure::Measure>,
     /// Interval between measurement samples (default: a hundredth of the run's length). With
     /// --measure, or on a checkpoint that carries measurements.
     #[arg(long, value_name = "DT", value_parser = parse_positive, allow_negative_numbers = true)]
@@ -190,78 +154,9 @@ pub struct BenchArgs {
     pub portable: bool,
 }
 
-/// A dimension: 2 or 3.
-pub fn parse_dim(s: &str) -> Result<usize, String> {
-    match s.trim() {
-        "2" => Ok(2),
-        "3" => Ok(3),
-        _ => Err(format!("the dimension must be 2 or 3, found '{s}'")),
-    }
-}
-
-fn parse_number(s: &str) -> Result<f64, String> {
-    let x: f64 = s
-        .trim()
-        .parse()
-        .map_err(|_| format!("'{s}' is not a number"))?;
-    if !x.is_finite() {
-        return Err(format!("'{s}' is not a finite number"));
-    }
-    Ok(x)
-}
-
-/// A time `>= 0`.
-pub fn parse_time(s: &str) -> Result<f64, String> {
-    let x = parse_number(s)?;
-    if x < 0.0 {
-        return Err(format!("the end time must be >= 0, found {s}"));
-    }
-    Ok(x)
-}
-
-/// A number `> 0`.
-pub fn parse_positive(s: &str) -> Result<f64, String> {
-    let x = parse_number(s)?;
-    if x <= 0.0 {
-        return Err(format!("must be > 0, found {s}"));
-    }
-    Ok(x)
-}
-
-/// A number `>= 0`.
-pub fn parse_non_negative(s: &str) -> Result<f64, String> {
-    let x = parse_number(s)?;
-    if x < 0.0 {
-        return Err(format!("must be >= 0, found {s}"));
-    }
-    Ok(x)
-}
-
-/// A count `>= 1`.
-pub fn parse_count(s: &str) -> Result<usize, String> {
-    match s.trim().parse::<usize>() {
-        Ok(n) if n >= 1 => Ok(n),
-        _ => Err(format!("must be a whole number >= 1, found '{s}'")),
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn time_flags() {
-        assert_eq!(parse_time("20"), Ok(20.0));
-        assert_eq!(parse_time("0"), Ok(0.0));
-        assert!(parse_time("-1").unwrap_err().contains(">= 0"));
-        assert!(parse_time("nan").unwrap_err().contains("finite"));
-        assert!(parse_time("inf").unwrap_err().contains("finite"));
-        assert!(parse_time("abc").unwrap_err().contains("not a number"));
-        assert!(parse_positive("0").is_err());
-        assert!(parse_count("0").is_err());
-        assert!(parse_count("-5").is_err());
-        assert_eq!(parse_count("10000"), Ok(10000));
-    }
 
     #[test]
     fn run_requires_until_and_pairs_trajectory_with_every() {

@@ -4,8 +4,9 @@
 
 use std::process::ExitCode;
 
+use edmd::front::{exit_with, parse_args};
 use edmd_cli::args::{Cli, Command};
-use edmd_cli::{commands, exit_with, parse_args};
+use edmd_cli::commands;
 
 fn main() -> ExitCode {
     let cli: Cli = match parse_args("edmd") {
@@ -28,7 +29,7 @@ fn main() -> ExitCode {
         Command::Run(a) => commands::run::run(a),
         Command::Bench(a) => commands::bench::run(a),
         Command::Soak(a) => commands::soak::run(a),
-        Command::Gen(a) => commands::gen::run(a),
+        Command::Gen(a) => edmd::gen::run(a),
         Command::Pack(a) => commands::pack::run(a),
         Command::Render(a) => commands::render::run(a),
         Command::View { args } => return view(args),

@@ -9,6 +9,7 @@ mod clock;
 mod defects;
 mod experiments;
 mod gsd;
+mod library;
 mod limits;
 mod pack;
 mod particles;

@@ -1,10 +1,10 @@
 //! # edmd-py: the Python binding of edmd
 //!
 //! The compiled module `edmd._edmd` behind the Python package `edmd` (in `python/edmd`).
-//! It is a thin layer: files are read by the CLI's own readers (`edmd_cli::input`), systems
-//! made by `edmd gen`'s own function (`edmd_cli::commands::gen::make`), packings by `edmd
-//! pack`'s (`edmd_cli::commands::pack::pack`), measurements taken by `edmd run --measure`'s
-//! observers, so Python and the command line agree bit for bit. Long runs release the GIL and
+//! It is a thin front door over the `edmd` library, as the command line is: files are read by
+//! its readers (`edmd::input`), systems made by `edmd::gen::make`, packings by
+//! `edmd::pack::pack`, measurements taken by `edmd::measure`'s observers and checkpoints made by
+//! `edmd::checkpoint`, so Python and the command line agree bit for bit. Long runs release the GIL and
 //! go in chunks of about 50 ms, checking for Ctrl-C between chunks; where a run stops never
 //! changes its trajectory, so the chunks give the uninterrupted run.
 
@@ -17,8 +17,8 @@ use std::io::Write;
 use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::path::{Path, PathBuf};
 
-use edmd_cli::commands::measurements::Measure;
-use edmd_cli::output::AtomicFile;
+use edmd::measure::Measure;
+use edmd::output::AtomicFile;
 use edmd_core::{Boundary, CollisionRule, MultiContact, Options, OverlapPolicy, Simulation};
 use edmd_io::princeton::ColumnOrder;
 use edmd_io::Format;
@@ -31,7 +31,7 @@ use args::num;
 use state::{State, EVENT_CHUNK};
 
 /// The most trajectory frames, callbacks or samples one run may take: `edmd run`'s limit.
-use edmd_cli::commands::run::MAX_STOPS;
+use edmd::checkpoint::MAX_STOPS;
 
 /// The largest trajectory file one run may write, as estimated before it starts (10 GB): a
 /// typing slip in `every` or a huge system should be refused at once, not fill the disc.
@@ -64,8 +64,8 @@ fn value_error(e: impl std::fmt::Display) -> PyErr {
 fn parse_boundary(
     boundary: Option<&str>,
     what: &str,
-) -> PyResult<Option<edmd_cli::args::BoundaryArg>> {
-    use edmd_cli::args::BoundaryArg;
+) -> PyResult<Option<edmd::options::BoundaryArg>> {
+    use edmd::options::BoundaryArg;
     match boundary {
         None => Ok(None),
         Some("periodic") => Ok(Some(BoundaryArg::Periodic)),
@@ -105,7 +105,7 @@ fn guarded<T>(what: &str, f: impl FnOnce() -> PyResult<T>) -> PyResult<T> {
     }
 }
 
-use edmd_cli::commands::run::format_name;
+use edmd::checkpoint::format_name;
 
 fn format_from_name(name: &str) -> Option<Format> {
     match name {
@@ -145,7 +145,7 @@ fn built<const D: usize>(
     sys: &edmd_io::LoadedSystem<D>,
     opts: Options,
 ) -> PyResult<Simulation<D>> {
-    let mut sim = edmd_cli::input::build(name, sys, opts).map_err(cli_error)?;
+    let mut sim = edmd::input::build(name, sys, opts).map_err(cli_error)?;
     if sys.time != 0.0 {
         sim.start_at(sys.time)
             .map_err(|e| value_error(format!("{name}: {e}")))?;
@@ -198,14 +198,13 @@ fn trajectory_kind(path: &Path) -> PyResult<TrajectoryKind> {
 /// True for a path that exists and is neither a regular file nor a folder (a device, a FIFO):
 /// `AtomicFile` writes those in place.
 fn is_special(path: &Path) -> bool {
-    std::fs::metadata(edmd_cli::output::resolve_links(path))
-        .is_ok_and(|m| !m.is_file() && !m.is_dir())
+    std::fs::metadata(edmd::output::resolve_links(path)).is_ok_and(|m| !m.is_file() && !m.is_dir())
 }
 
 /// Refuses a trajectory that cannot be written or would be absurdly large, before anything is
 /// created: the estimate is `frames` frames of the size of one frame of this system.
 fn check_trajectory(path: &Path, kind: TrajectoryKind, frames: f64, inner: &Inner) -> PyResult<()> {
-    edmd_cli::output::check_file_destinations(&[("trajectory", path)]).map_err(cli_error)?;
+    edmd::output::check_file_destinations(&[("trajectory", path)]).map_err(cli_error)?;
     if kind == TrajectoryKind::Gsd && is_special(path) {
         return Err(value_error(format!(
             "trajectory: {}: a GSD trajectory needs a regular file (its index is written at the end); write .xyz to a device or a pipe",
@@ -828,7 +827,7 @@ impl PySimulation {
         // The whole file is made in memory first, so that every refusal comes before the
         // file system is touched.
         let bytes = guarded("write", || render(&this.inner, &kind, &path))?;
-        edmd_cli::output::check_file_destinations(&[("path", &path)]).map_err(cli_error)?;
+        edmd::output::check_file_destinations(&[("path", &path)]).map_err(cli_error)?;
         let mut f = AtomicFile::create(&path).map_err(cli_error)?;
         f.writer().write_all(&bytes).map_err(io_error)?;
         f.commit().map_err(cli_error)
@@ -1032,7 +1031,7 @@ impl PySimulation {
             options(rule.unwrap_or(default), multi, allow_overlaps)
         };
         // The CLI's reader: only a file that starts with the magic number, and bounded in size.
-        if let Some(bytes) = edmd_cli::commands::run::read_checkpoint(&path).map_err(cli_error)? {
+        if let Some(bytes) = edmd::checkpoint::read_checkpoint(&path).map_err(cli_error)? {
             if frame.is_some()
                 || format.is_some()
                 || columns.is_some()
@@ -1067,7 +1066,7 @@ impl PySimulation {
                 )))
             }
         };
-        let loaded = edmd_cli::input::read_any(&name, format, order, frame).map_err(cli_error)?;
+        let loaded = edmd::input::read_any(&name, format, order, frame).map_err(cli_error)?;
         let inner = match loaded {
             edmd_io::AnyLoaded::Two(sys) => {
                 if columns.is_some() && sys.format == Format::Course {
@@ -1282,9 +1281,9 @@ fn _generate(
     rule: &str,
     multi: bool,
 ) -> PyResult<PySimulation> {
-    use edmd_cli::commands::gen::{make, GenArgs, Generated};
-    let dim = edmd_cli::args::parse_dim(&dim.to_string())
-        .map_err(|e| value_error(format!("dim: {e}")))?;
+    use edmd::gen::{make, GenArgs, Generated};
+    let dim =
+        edmd::options::parse_dim(&dim.to_string()).map_err(|e| value_error(format!("dim: {e}")))?;
     let boundary = parse_boundary(boundary, "boundary")?;
     let opts = options(rule, multi, false)?;
     let args = GenArgs {

@@ -1,13 +1,11 @@
-//! `edmd.pack`: the compression of `edmd pack`, by the command's own function
-//! (`edmd_cli::commands::pack::pack`), so the Python packing is the command's bit for bit.
+//! `edmd.pack`: the compression of `edmd pack`, by the library function the command calls
+//! (`edmd::pack::pack`), so the Python packing is the command's bit for bit.
 
 use std::path::PathBuf;
 use std::time::{Duration, Instant};
 
-use edmd_cli::commands::experiment::common::MAX_N;
-use edmd_cli::commands::pack::{
-    pack as cli_pack, read_pack_checkpoint, Given, PackArgs, Packed, Start,
-};
+use edmd::pack::{pack as cli_pack, read_pack_checkpoint, Given, PackArgs, Packed, Start};
+use edmd::MAX_N;
 use edmd_core::pack::Status;
 use edmd_core::{Options, Simulation};
 use edmd_io::princeton::ColumnOrder;

@@ -3,8 +3,8 @@
 
 use std::time::Instant;
 
-use edmd_cli::commands::measurements::{Measure, Table};
-pub use edmd_cli::commands::run::Measuring;
+pub use edmd::checkpoint::Measuring;
+use edmd::measure::{Measure, Table};
 use edmd_core::{Observer, Simulation};
 use edmd_io::Format;
 
@@ -43,13 +43,13 @@ impl<const D: usize> State<D> {
     /// The state's checkpoint bytes, measurements included: `edmd run` continues them, and
     /// pickles are made of them.
     pub fn checkpoint(&self) -> Result<Vec<u8>, String> {
-        edmd_cli::commands::run::checkpoint_bytes(&self.sim, self.format, self.measuring.as_ref())
+        edmd::checkpoint::checkpoint_bytes(&self.sim, self.format, self.measuring.as_ref())
             .map_err(|e| format!("checkpoint: {e:#}"))
     }
 
     /// A state from checkpoint bytes (measurements included).
     pub fn from_checkpoint(bytes: &[u8]) -> Result<Self, String> {
-        let (sim, format, measuring) = edmd_cli::commands::run::from_checkpoint_bytes::<D>(bytes)?;
+        let (sim, format, measuring) = edmd::checkpoint::from_checkpoint_bytes::<D>(bytes)?;
         Ok(State {
             sim,
             format,

@@ -4,8 +4,8 @@ use std::path::PathBuf;
 
 use anyhow::Result;
 use clap::{Parser, ValueEnum};
-use edmd_cli::input::{build, load, read_any, read_text};
-use edmd_cli::user_error;
+use edmd::input::{build, load, read_any, read_text};
+use edmd::user_error;
 use edmd_core::setup::generators::{generate, GenKind};
 use edmd_core::{Boundary, Options, Simulation};
 use edmd_draw::Colouring;
@@ -312,7 +312,7 @@ mod tests {
     fn a_missing_file_is_one_user_error() {
         let a = parse(&["/nonexistent/discs.txt"]).unwrap();
         let e = a.simulation().unwrap_err();
-        assert!(e.downcast_ref::<edmd_cli::UserError>().is_some());
+        assert!(e.downcast_ref::<edmd::UserError>().is_some());
         assert!(e.to_string().contains("cannot read"));
     }
 }

@@ -51,12 +51,12 @@ pub fn display_available() -> bool {
 
 /// Runs the program: parses the arguments, opens the window, returns the exit status.
 pub fn main() -> ExitCode {
-    let args: ViewArgs = match edmd_cli::parse_args("edmd-view") {
+    let args: ViewArgs = match edmd::front::parse_args("edmd-view") {
         Ok(a) => a,
         Err(code) => return code,
     };
     if let Err(e) = args.validate() {
-        return edmd_cli::exit_with("edmd-view", Err(e));
+        return edmd::front::exit_with("edmd-view", Err(e));
     }
     if !display_available() {
         eprintln!(
@@ -67,7 +67,7 @@ pub fn main() -> ExitCode {
     match args.simulation_any() {
         Ok(args::AnySimulation::Two(sim)) => show(&args, sim),
         Ok(args::AnySimulation::Three(sim)) => show(&args, sim),
-        Err(e) => edmd_cli::exit_with("edmd-view", Err(e)),
+        Err(e) => edmd::front::exit_with("edmd-view", Err(e)),
     }
 }
 

@@ -4,8 +4,8 @@
 
 use std::process::ExitCode;
 
+use edmd::front::{exit_with, parse_args};
 use edmd_cli::commands::particles::{run, ParticlesArgs};
-use edmd_cli::{exit_with, parse_args};
 
 fn main() -> ExitCode {
     let args: ParticlesArgs = match parse_args("particles") {

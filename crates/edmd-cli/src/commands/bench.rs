@@ -9,7 +9,7 @@ use edmd_core::{Boundary, Options, Simulation};
 use serde::Serialize;
 
 use crate::args::{BenchArgs, BoundaryArg};
-use crate::user_error;
+use edmd::user_error;
 
 /// The JSON line.
 #[derive(Debug, Serialize)]
@@ -50,7 +50,7 @@ pub fn run(args: &BenchArgs) -> Result<()> {
         3 => bench::<3>(args)?,
         _ => bench::<2>(args)?,
     };
-    crate::print_line(&serde_json::to_string(&result)?);
+    edmd::front::print_line(&serde_json::to_string(&result)?);
     Ok(())
 }
 
@@ -76,13 +76,13 @@ fn bench<const D: usize>(args: &BenchArgs) -> Result<BenchResult> {
     let e0 = sim.kinetic_energy();
     let melt = args.melt * args.n as u64;
     while sim.stats().disc_disc < melt {
-        crate::run_events(&mut sim, 1 << 16)?;
+        edmd::run_events(&mut sim, 1 << 16)?;
     }
     let before = sim.stats();
     let target = before.disc_disc + args.collisions * args.n as u64;
     let started = Instant::now();
     while sim.stats().disc_disc < target {
-        crate::run_events(&mut sim, 1 << 16)?;
+        edmd::run_events(&mut sim, 1 << 16)?;
     }
     let seconds = started.elapsed().as_secs_f64();
     let after = sim.stats();

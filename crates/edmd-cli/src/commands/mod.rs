@@ -2,8 +2,6 @@
 
 pub mod bench;
 pub mod experiment;
-pub mod gen;
-pub mod measurements;
 pub mod pack;
 pub mod particles;
 pub mod render;

@@ -12,7 +12,7 @@ use edmd_core::{CollisionCounter, CollisionRule, Options, OverlapPolicy};
 use edmd_io::Format;
 
 use crate::args::parse_time;
-use crate::input::{build_with_hint, load, read_text};
+use edmd::input::{build_with_hint, load, read_text};
 
 /// The course program: simulate N equal discs in a box up to time T.
 #[derive(Debug, Parser)]
@@ -40,7 +40,7 @@ pub fn run(args: &ParticlesArgs, out: &mut impl Write) -> Result<()> {
         false,
     )?;
     let mut counter = CollisionCounter::new(sim.len());
-    crate::run_until(&mut sim, args.end_time, &mut counter).with_context(|| args.file.clone())?;
+    edmd::run_until(&mut sim, args.end_time, &mut counter).with_context(|| args.file.clone())?;
     let mut buf = String::with_capacity(48 * sim.len());
     for i in 0..sim.len() {
         let p = sim.position(i);

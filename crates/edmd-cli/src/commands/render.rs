@@ -21,9 +21,9 @@ use edmd_core::{Options, OverlapPolicy, Simulation};
 use edmd_draw::{draw3_into, draw_into, rgba, Colouring, Pixmap, Scene, Scene3, View};
 
 use crate::args::{parse_positive, parse_time};
-use crate::input::{build, read_any};
-use crate::output::AtomicFile;
-use crate::user_error;
+use edmd::input::{build, read_any};
+use edmd::output::AtomicFile;
+use edmd::user_error;
 
 /// Disc colouring.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
@@ -152,7 +152,7 @@ struct FrameDir {
 impl FrameDir {
     fn create(out: &Path) -> Result<Self> {
         let fail = |e: std::io::Error| {
-            crate::UserError(format!(
+            edmd::UserError(format!(
                 "{}: cannot create the frame folder: {e}",
                 out.display()
             ))
@@ -174,7 +174,7 @@ impl FrameDir {
             Err(e) => return Err(fail(e).into()),
         };
         let tmp = out.join(format!(".edmd-{}.tmp", std::process::id()));
-        crate::output::register_temporary(if created { out } else { &tmp });
+        edmd::output::register_temporary(if created { out } else { &tmp });
         let dir = FrameDir {
             out: out.to_path_buf(),
             tmp,
@@ -189,7 +189,7 @@ impl FrameDir {
         for entry in std::fs::read_dir(&self.tmp)? {
             let entry = entry?;
             std::fs::rename(entry.path(), self.out.join(entry.file_name())).map_err(|e| {
-                crate::UserError(format!(
+                edmd::UserError(format!(
                     "{}: cannot move a frame into place: {e}",
                     self.out.display()
                 ))
@@ -197,7 +197,7 @@ impl FrameDir {
         }
         std::fs::remove_dir(&self.tmp)?;
         self.done = true;
-        crate::output::unregister_temporary(if self.created { &self.out } else { &self.tmp });
+        edmd::output::unregister_temporary(if self.created { &self.out } else { &self.tmp });
         Ok(())
     }
 }
@@ -209,7 +209,7 @@ impl Drop for FrameDir {
             if self.created {
                 let _ = std::fs::remove_dir_all(&self.out);
             }
-            crate::output::unregister_temporary(if self.created { &self.out } else { &self.tmp });
+            edmd::output::unregister_temporary(if self.created { &self.out } else { &self.tmp });
         }
     }
 }
@@ -242,7 +242,7 @@ fn out_kind(out: &Path) -> Result<OutKind> {
 /// Runs `edmd render`.
 pub fn run(args: &RenderArgs) -> Result<()> {
     let kind = out_kind(&args.output)?;
-    crate::output::check_distinct(
+    edmd::output::check_distinct(
         &[("the input file", Path::new(&args.file))],
         &[("--output", &args.output)],
     )?;
@@ -333,7 +333,7 @@ fn render_in<const D: usize>(
         sim.start_at(t0)
             .or_else(|e| user_error(format!("{}: {e}", args.file)))?;
     }
-    crate::check_until(&sim, &args.file, args.until)?;
+    edmd::check_until(&sim, &args.file, args.until)?;
     let (w, h) = args.size;
     crate::commands::experiment::common::install_ctrlc();
     let mut sink = match kind {
@@ -365,15 +365,15 @@ fn render_in<const D: usize>(
     let delay = (100.0 / args.fps).round().max(1.0) as u16;
     for k in 0..frames {
         if crate::commands::experiment::common::stop_requested() {
-            return crate::interrupted(format!(
+            return edmd::interrupted(format!(
                 "interrupted at frame {k} of {frames}: nothing written"
             ));
         }
         let t = t0 + (k as f64 * args.time_scale / args.fps).min(span);
         // Frames far apart in simulated time can take minutes each: the stop flag is also
         // looked at while running to the frame.
-        if !crate::run_until_or_stop(&mut sim, t, &mut ())? {
-            return crate::interrupted(format!(
+        if !edmd::run_until_or_stop(&mut sim, t, &mut ())? {
+            return edmd::interrupted(format!(
                 "interrupted before frame {k} of {frames}: nothing written"
             ));
         }
@@ -388,7 +388,7 @@ fn render_in<const D: usize>(
             Sink::Png(dir) => pixmap
                 .save_png(dir.tmp.join(format!("frame_{k:06}.png")))
                 .map_err(|e| {
-                    crate::UserError(format!(
+                    edmd::UserError(format!(
                         "{}: cannot write a PNG frame: {e}",
                         dir.out.display()
                     ))
@@ -429,7 +429,7 @@ fn render_in<const D: usize>(
         }
     };
     let s = if frames == 1 { "" } else { "s" };
-    crate::print_line(&format!(
+    edmd::front::print_line(&format!(
         "{frames} frame{s} of {w}x{h} written to {} (t = {t0} to {})",
         out.display(),
         args.until

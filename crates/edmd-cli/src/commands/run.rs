@@ -11,15 +11,17 @@ use edmd_core::{
 };
 use edmd_io::princeton::ColumnOrder;
 use edmd_io::Format;
-use serde::{Deserialize, Serialize};
+use serde::Serialize;
 
 use crate::args::{ColumnsArg, FormatArg, RuleArg, RunArgs};
-use crate::commands::measurements::{Measure, Measurements};
-use crate::input::{build, read_any};
-use crate::output::{
-    check_distinct, check_file_destinations, check_folder_destination, AtomicFile,
+use edmd::checkpoint::{
+    checkpoint_bytes, measure_names as names, read_checkpoint, read_extra, same_file,
+    write_checkpoint, Measuring, MAX_STOPS, MAX_TRAJECTORY_BYTES,
 };
-use crate::user_error;
+use edmd::input::{build, read_any};
+use edmd::measure::Measure;
+use edmd::output::{check_distinct, check_file_destinations, check_folder_destination, AtomicFile};
+use edmd::user_error;
 
 /// The run summary (`--json` prints it as one object).
 #[derive(Debug, Serialize)]
@@ -121,67 +123,6 @@ fn run_in<const D: usize>(args: &RunArgs, sys: edmd_io::LoadedSystem<D>) -> Resu
             .or_else(|e| user_error(format!("{}: {e}", args.file)))?;
     }
     execute(args, sim, sys.format, None)
-}
-
-/// What a checkpoint keeps besides the engine state: the format of the file the run started
-/// from (the final state is written in it) and the measurements under way. `M` is
-/// `&Measuring` when written and `Measuring` when read: serde writes both the same way.
-#[derive(Serialize, Deserialize)]
-struct CheckpointExtra<M> {
-    format: String,
-    measuring: Option<M>,
-}
-
-/// Measurements under way and their sampling schedule: samples at `start + k * every`. Kept
-/// in checkpoints (by `edmd run` and by the Python package's pickles).
-#[derive(Serialize, Deserialize)]
-#[serde(bound = "")]
-pub struct Measuring<const D: usize> {
-    /// What is measured (sorted, each once).
-    pub which: Vec<Measure>,
-    /// Simulated time between samples.
-    pub every: f64,
-    /// When the measurements started.
-    pub start: f64,
-    /// Samples taken.
-    pub samples: u64,
-    /// The observers.
-    pub obs: Measurements<D>,
-}
-
-impl<const D: usize> Measuring<D> {
-    /// Starts measuring `which` on `sim` now, a sample every `every`.
-    pub fn new(sim: &Simulation<D>, which: &[Measure], every: f64) -> Self {
-        let mut which = which.to_vec();
-        which.sort();
-        which.dedup();
-        Measuring {
-            obs: Measurements::new(sim, &which),
-            which,
-            every,
-            start: sim.time(),
-            samples: 0,
-        }
-    }
-
-    /// Time of the next sample.
-    pub fn next_sample(&self) -> f64 {
-        self.start + (self.samples + 1) as f64 * self.every
-    }
-
-    /// Whether measurements read back from a checkpoint can go on with `sim`.
-    fn fits(&self, sim: &Simulation<D>) -> bool {
-        self.obs.fits(sim) && !self.which.is_empty() && self.every > 0.0
-    }
-}
-
-/// The name a checkpoint keeps for the format of the file its run started from.
-pub fn format_name(format: Format) -> &'static str {
-    match format {
-        Format::Course => "course",
-        Format::Princeton(ColumnOrder::RadiusMass) => "princeton",
-        Format::Princeton(ColumnOrder::MassRadius) => "princeton-mass-radius",
-    }
 }
 
 /// Continues a run from a checkpoint.
@@ -327,109 +268,6 @@ fn value_name(v: impl clap::ValueEnum) -> String {
         .unwrap_or_default()
 }
 
-/// The format and the measurements kept in a checkpoint's extra bytes; `None` when they cannot
-/// be read.
-fn read_extra<const D: usize>(extra: &[u8]) -> Option<(Format, Option<Measuring<D>>)> {
-    let extra = postcard::from_bytes::<CheckpointExtra<Measuring<D>>>(extra).ok()?;
-    let format = match extra.format.as_str() {
-        "course" => Format::Course,
-        "princeton-mass-radius" => Format::Princeton(ColumnOrder::MassRadius),
-        "princeton" => Format::Princeton(ColumnOrder::RadiusMass),
-        _ => return None,
-    };
-    Some((format, extra.measuring))
-}
-
-/// The bytes of a checkpoint of `sim`, as `edmd run --checkpoint` writes them for a run that
-/// started from a file of `format` with the measurements `measuring` under way (the Python
-/// package pickles with these, so that either program continues the other's checkpoints).
-pub fn checkpoint_bytes<const D: usize>(
-    sim: &Simulation<D>,
-    format: Format,
-    measuring: Option<&Measuring<D>>,
-) -> Result<Vec<u8>> {
-    let extra = CheckpointExtra {
-        format: format_name(format).to_string(),
-        measuring: measuring.filter(|m| !m.which.is_empty()),
-    };
-    Ok(sim.to_checkpoint(&postcard::to_stdvec(&extra)?))
-}
-
-/// A simulation, the format of its run's file and the measurements under way, from checkpoint
-/// bytes (as written by [`checkpoint_bytes`] or `edmd run --checkpoint`), or the reason they
-/// cannot be read.
-#[allow(clippy::type_complexity)]
-pub fn from_checkpoint_bytes<const D: usize>(
-    bytes: &[u8],
-) -> Result<(Simulation<D>, Format, Option<Measuring<D>>), String> {
-    let (sim, extra) = Simulation::<D>::from_checkpoint(bytes).map_err(|e| e.to_string())?;
-    let unreadable = "checkpoint: the run's settings or measurements are missing or unreadable";
-    let (format, measuring) = read_extra::<D>(&extra).ok_or(unreadable)?;
-    if measuring.as_ref().is_some_and(|m| !m.fits(&sim)) {
-        return Err(unreadable.into());
-    }
-    Ok((sim, format, measuring))
-}
-
-/// The names of measurements, as `--measure` takes them.
-fn names(which: &[Measure]) -> String {
-    use clap::ValueEnum;
-    which
-        .iter()
-        .filter_map(|m| m.to_possible_value().map(|v| v.get_name().to_string()))
-        .collect::<Vec<_>>()
-        .join(",")
-}
-
-/// Reads `path` as a checkpoint if it starts with the checkpoint magic number; `None` for any
-/// other file (read as a data file then). A packing's checkpoint is refused by name.
-pub fn read_checkpoint(path: &Path) -> Result<Option<Vec<u8>>> {
-    if read_magic(path)?.is_some_and(|m| edmd_core::pack::is_pack_checkpoint(&m)) {
-        return user_error(format!(
-            "{}: a packing checkpoint (edmd pack continues it: edmd pack {} -o OUT), not a run's",
-            path.display(),
-            path.display()
-        ));
-    }
-    read_file_starting(path, edmd_core::CHECKPOINT_MAGIC)
-}
-
-/// The first 8 bytes of a regular file (`None` for `-`, a device, a folder, a shorter file or
-/// one that cannot be opened: those are left to the data file reader).
-pub fn read_magic(path: &Path) -> Result<Option<[u8; 8]>> {
-    use std::io::Read;
-    if path == Path::new("-") || std::fs::metadata(path).map_or(true, |m| !m.is_file()) {
-        return Ok(None);
-    }
-    let Ok(mut f) = std::fs::File::open(path) else {
-        return Ok(None);
-    };
-    let mut start = [0u8; 8];
-    Ok(f.read_exact(&mut start).is_ok().then_some(start))
-}
-
-/// Reads `path` whole if it is a regular file starting with `magic` (a checkpoint: at most
-/// [`crate::input::MAX_FILE`] bytes); `None` for any other file.
-pub fn read_file_starting(path: &Path, magic: &[u8; 8]) -> Result<Option<Vec<u8>>> {
-    use std::io::Read;
-    if read_magic(path)? != Some(*magic) {
-        return Ok(None);
-    }
-    let f = std::fs::File::open(path)
-        .or_else(|e| user_error(format!("{}: cannot read: {e}", path.display())))?;
-    let mut bytes = Vec::new();
-    f.take(crate::input::MAX_FILE as u64 + 1)
-        .read_to_end(&mut bytes)
-        .or_else(|e| user_error(format!("{}: cannot read: {e}", path.display())))?;
-    if bytes.len() > crate::input::MAX_FILE {
-        return user_error(format!(
-            "{}: checkpoint: larger than the largest file read",
-            path.display()
-        ));
-    }
-    Ok(Some(bytes))
-}
-
 /// Runs `sim` to `--until`, writing the outputs the options ask for.
 ///
 /// `measuring` holds the measurements a checkpoint carried; without them, `--measure` starts
@@ -441,7 +279,7 @@ fn execute<const D: usize>(
     measuring: Option<Measuring<D>>,
 ) -> Result<()> {
     let start_time = sim.time();
-    crate::check_until(&sim, &args.file, args.until)?;
+    edmd::check_until(&sim, &args.file, args.until)?;
     check_stops(args, start_time)?;
     if let Some(m) = &measuring {
         check_samples(args, m)?;
@@ -626,7 +464,7 @@ fn execute<const D: usize>(
     if to_stdout {
         eprintln!("{text}");
     } else {
-        crate::print_line(&text);
+        edmd::front::print_line(&text);
     }
     Ok(())
 }
@@ -642,20 +480,8 @@ fn stopped<const D: usize>(sim: &Simulation<D>, checkpoint: Option<(f64, &Path)>
         ),
         None => "nothing written".to_string(),
     };
-    crate::interrupted(format!("interrupted at t = {}: {kept}", sim.time()))
+    edmd::interrupted(format!("interrupted at t = {}: {kept}", sim.time()))
 }
-
-/// Writes a checkpoint of `sim` to `path`, replacing the previous one atomically (a kill at any
-/// moment leaves the old one whole).
-pub fn write_checkpoint(path: &Path, bytes: &[u8]) -> Result<()> {
-    let mut f = AtomicFile::create(path)?;
-    f.writer().write_all(bytes)?;
-    f.commit()?;
-    Ok(())
-}
-
-/// The most trajectory frames or measurement samples one run may take.
-pub const MAX_STOPS: f64 = 1e6;
 
 /// Checks the options against each other and every output against the input and the other
 /// outputs, before anything is read or run.
@@ -727,10 +553,6 @@ fn check_samples<const D: usize>(args: &RunArgs, m: &Measuring<D>) -> Result<()>
     }
     Ok(())
 }
-
-/// The most bytes a `--trajectory` may take (100 GB). A run longer than that can write its
-/// trajectory in parts, a leg at a time, through checkpoints.
-pub const MAX_TRAJECTORY_BYTES: f64 = 1e11;
 
 /// Refuses a `--trajectory` whose frames would take more than [`MAX_TRAJECTORY_BYTES`],
 /// estimated before any work as the number of frames times the size of the first (written to
@@ -824,15 +646,6 @@ fn measure_dir(args: &RunArgs) -> Option<&Path> {
     args.measure_dir.as_deref()
 }
 
-/// Whether two paths name the same existing file.
-pub fn same_file(a: &Path, b: &Path) -> bool {
-    use std::os::unix::fs::MetadataExt;
-    match (std::fs::metadata(a), std::fs::metadata(b)) {
-        (Ok(x), Ok(y)) => x.dev() == y.dev() && x.ino() == y.ino(),
-        _ => false,
-    }
-}
-
 fn human(s: &Summary) -> String {
     let mut t = format!(
         "{}: {} {} ({} format) simulated to t = {}\nevents: {} disc-disc, {} wall, {} cell crossings ({} stale predictions discarded)\nspeed: {:.3e} collisions per second ({:.3} s in the event loop)\nenergy: relative change {:.3e}",
@@ -877,11 +690,11 @@ fn run_to<const D: usize, O: Observer<D>>(
     obs: &mut O,
     file: &str,
 ) -> Result<bool> {
-    const CHUNK: u64 = crate::STOP_CHECK_EVENTS;
+    const CHUNK: u64 = edmd::STOP_CHECK_EVENTS;
     loop {
         let more = sim.run_events_to(t, CHUNK, obs) == CHUNK;
         if let Some(s) = sim.stalled() {
-            return crate::user_error(format!("{file}: {s}; nothing written"));
+            return edmd::user_error(format!("{file}: {s}; nothing written"));
         }
         if let Some(pb) = progress {
             let total = pb.length().unwrap_or(1) as f64;

@@ -13,7 +13,7 @@ use serde::Serialize;
 
 use crate::args::{parse_count, parse_dim, parse_positive};
 use crate::commands::experiment::common::{check_n, check_packings};
-use crate::user_error;
+use edmd::user_error;
 
 /// `edmd soak`.
 #[derive(Debug, Args)]
@@ -178,7 +178,7 @@ fn soak<const D: usize>(args: &SoakArgs) -> Result<()> {
         let target = (args.collisions as u128 * k as u128 / args.checks as u128) as u64;
         while sim.stats().disc_disc < target {
             if crate::commands::experiment::common::stop_requested() {
-                return crate::interrupted(format!(
+                return edmd::interrupted(format!(
                     "soak: interrupted at {} collisions, after {} of {} checks (all passed)",
                     sim.stats().disc_disc,
                     k - 1,
@@ -189,7 +189,7 @@ fn soak<const D: usize>(args: &SoakArgs) -> Result<()> {
             // A clock that stops is an error here too (named discs, exit status 2). Slices of
             // STOP_CHECK_EVENTS so that a signal is heeded within a fraction of a second even
             // for millions of spheres, where each event misses the caches.
-            crate::run_events(&mut sim, left.clamp(1, crate::STOP_CHECK_EVENTS))?;
+            edmd::run_events(&mut sim, left.clamp(1, edmd::STOP_CHECK_EVENTS))?;
         }
         let reading = read(&sim, e0, p0, p_scale);
         max_e = max_e.max(reading.energy_drift);
@@ -229,9 +229,9 @@ fn soak<const D: usize>(args: &SoakArgs) -> Result<()> {
         ok: failures.is_empty(),
     };
     if args.json {
-        crate::print_line(&serde_json::to_string(&summary)?);
+        edmd::front::print_line(&serde_json::to_string(&summary)?);
     } else {
-        crate::print_line(&format!(
+        edmd::front::print_line(&format!(
             "soak: {} {} at packing {packing}: {} collisions to t = {:.6e} in {:.0} s ({:.3e}/s); largest energy drift {:.1e}, momentum drift {:.1e}; {}",
             sim.len(),
             if D == 3 { "spheres" } else { "discs" },

@@ -16,7 +16,7 @@ use edmd_plot::{Figure, Series};
 use serde::Serialize;
 
 use super::common::{files_line, interrupted_after, out_dir, report, write_csv, CommonArgs};
-use crate::user_error;
+use edmd::user_error;
 
 /// Options of `edmd experiment billiards`.
 #[derive(Debug, Args)]
@@ -144,7 +144,7 @@ pub fn run(args: &BilliardsArgs) -> Result<()> {
             },
         )?;
         let e0 = sim.kinetic_energy();
-        if !crate::run_until_or_stop(&mut sim, strike + 0.02, &mut ())? {
+        if !edmd::run_until_or_stop(&mut sim, strike + 0.02, &mut ())? {
             interrupted = true;
             break;
         }
@@ -167,7 +167,7 @@ pub fn run(args: &BilliardsArgs) -> Result<()> {
         for k in 0..=steps {
             let t = strike - 0.2 + (args.follow + 0.2) * k as f64 / steps as f64;
             // A long --follow can take hours between two steps.
-            if !crate::run_until_or_stop(&mut sim, t, &mut ())? {
+            if !edmd::run_until_or_stop(&mut sim, t, &mut ())? {
                 interrupted = true;
                 break 'models;
             }

@@ -67,7 +67,7 @@ pub fn run(args: &BrownianArgs) -> Result<()> {
         super::common::MAX_SAMPLES as u64,
     )?;
     if !(args.until.is_finite() && args.until > 0.0) || args.samples < 10 {
-        return crate::user_error("brownian: --until must be > 0 and --samples >= 10");
+        return edmd::user_error("brownian: --until must be > 0 and --samples >= 10");
     }
     let dir = out_dir(&args.common)?;
     let kind = GenKind::Brownian(Brownian {
@@ -75,7 +75,7 @@ pub fn run(args: &BrownianArgs) -> Result<()> {
         ..Brownian::default()
     });
     let system = generate(&kind, args.common.seed)
-        .or_else(|e| crate::user_error(format!("brownian: {e}")))?;
+        .or_else(|e| edmd::user_error(format!("brownian: {e}")))?;
     let mut sim = Simulation::new(&system.discs, system.sim_box, Options::default())?;
     let e0 = sim.kinetic_energy();
     let big = 0;
@@ -88,7 +88,7 @@ pub fn run(args: &BrownianArgs) -> Result<()> {
             stopped = true;
             break;
         }
-        if !crate::run_until_or_stop(&mut sim, k as f64 * dt, &mut ())? {
+        if !edmd::run_until_or_stop(&mut sim, k as f64 * dt, &mut ())? {
             stopped = true;
             break;
         }

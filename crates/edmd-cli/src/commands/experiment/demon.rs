@@ -113,16 +113,16 @@ pub fn run(args: &DemonArgs) -> Result<()> {
         super::common::MAX_SAMPLES as u64,
     )?;
     if !(args.door > 0.0 && args.door < 1.0) {
-        return crate::user_error(format!(
+        return edmd::user_error(format!(
             "demon: --door {} must be between 0 and the box height 1",
             args.door
         ));
     }
     if !(args.fast >= 0.0 && args.slow >= 0.0 && args.fast.is_finite() && args.slow.is_finite()) {
-        return crate::user_error("demon: --fast and --slow must be finite and >= 0");
+        return edmd::user_error("demon: --fast and --slow must be finite and >= 0");
     }
     if !(args.until.is_finite() && args.until > 0.0) || args.samples == 0 {
-        return crate::user_error("demon: --until must be > 0 and --samples >= 1");
+        return edmd::user_error("demon: --until must be > 0 and --samples >= 1");
     }
     let dir = out_dir(&args.common)?;
     let kind = GenKind::Diffusion2(Diffusion2 {
@@ -130,7 +130,7 @@ pub fn run(args: &DemonArgs) -> Result<()> {
         ..Diffusion2::default()
     });
     let system =
-        generate(&kind, args.common.seed).or_else(|e| crate::user_error(format!("demon: {e}")))?;
+        generate(&kind, args.common.seed).or_else(|e| edmd::user_error(format!("demon: {e}")))?;
     let x0 = DIFFUSION2_PARTITION;
     let door = Barrier {
         axis: 0,
@@ -143,7 +143,7 @@ pub fn run(args: &DemonArgs) -> Result<()> {
     };
     let mut sim =
         Simulation::with_barriers(&system.discs, system.sim_box, &[door], Options::default())
-            .or_else(|e| crate::user_error(format!("demon: {e}")))?;
+            .or_else(|e| edmd::user_error(format!("demon: {e}")))?;
     let e0 = sim.kinetic_energy();
     let (start, _) = sides(&sim, x0);
     let mut series = vec![(0.0, start[0], start[1])];
@@ -155,7 +155,7 @@ pub fn run(args: &DemonArgs) -> Result<()> {
             stopped = true;
             break;
         }
-        if !crate::run_until_or_stop(
+        if !edmd::run_until_or_stop(
             &mut sim,
             args.until * k as f64 / args.samples as f64,
             &mut watch,

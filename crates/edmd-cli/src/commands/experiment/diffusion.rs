@@ -69,7 +69,7 @@ pub fn run(args: &DiffusionArgs) -> Result<()> {
         super::common::MAX_SAMPLES as u64,
     )?;
     if !(args.until.is_finite() && args.until > 0.0) || args.samples == 0 {
-        return crate::user_error("diffusion: --until must be > 0 and --samples >= 1");
+        return edmd::user_error("diffusion: --until must be > 0 and --samples >= 1");
     }
     let dir = out_dir(&args.common)?;
     let kind = GenKind::Diffusion2(Diffusion2 {
@@ -77,7 +77,7 @@ pub fn run(args: &DiffusionArgs) -> Result<()> {
         ..Diffusion2::default()
     });
     let system = generate(&kind, args.common.seed)
-        .or_else(|e| crate::user_error(format!("diffusion: {e}")))?;
+        .or_else(|e| edmd::user_error(format!("diffusion: {e}")))?;
     let mut sim = Simulation::new(&system.discs, system.sim_box, Options::default())?;
     let e0 = sim.kinetic_energy();
     let mut halves = SpeciesHalves::new(&sim, 0);
@@ -98,7 +98,7 @@ pub fn run(args: &DiffusionArgs) -> Result<()> {
             stopped = true;
             break;
         }
-        if !crate::run_until_or_stop(&mut sim, t, &mut ())? {
+        if !edmd::run_until_or_stop(&mut sim, t, &mut ())? {
             stopped = true;
             break;
         }

@@ -132,7 +132,7 @@ fn run_in<const D: usize>(args: &EosArgs) -> Result<()> {
     super::common::check_count("eos", "melt", args.melt, 0, 100_000)?;
     super::common::check_count("eos", "blocks", args.blocks as u64, 2, 10_000)?;
     if args.blocks < 2 || args.measure == 0 {
-        return crate::user_error("eos: --blocks must be >= 2 and --collisions >= 1");
+        return edmd::user_error("eos: --blocks must be >= 2 and --collisions >= 1");
     }
     let dir = out_dir(&args.common)?;
     let progress = Progress::new((args_packing.len() * args.blocks) as u64, "eos");
@@ -159,7 +159,7 @@ fn run_in<const D: usize>(args: &EosArgs) -> Result<()> {
             }
             let t = sim.time() + block;
             // A block can hold billions of collisions (large --n and --collisions).
-            if !crate::run_until_or_stop(&mut sim, t, &mut (&mut pressure, &mut collisions))? {
+            if !edmd::run_until_or_stop(&mut sim, t, &mut (&mut pressure, &mut collisions))? {
                 break 'packings;
             }
             pressure.sample(&sim);

@@ -188,10 +188,10 @@ fn run_in<const D: usize>(args: &JammingArgs) -> Result<()> {
     check_n("jamming", args.n, 2 * (D + 1))?;
     check_count("jamming", "seeds", args.seeds, 1, 10_000)?;
     if args.rates.is_empty() {
-        return crate::user_error("jamming: give at least one growth rate (--rates)");
+        return edmd::user_error("jamming: give at least one growth rate (--rates)");
     }
     if args.rates.len() > 1000 {
-        return crate::user_error("jamming: at most 1000 growth rates");
+        return edmd::user_error("jamming: at most 1000 growth rates");
     }
     for &rate in &args.rates {
         PackOptions {
@@ -200,14 +200,12 @@ fn run_in<const D: usize>(args: &JammingArgs) -> Result<()> {
             ..PackOptions::default()
         }
         .validate()
-        .or_else(|e| crate::user_error(format!("jamming: {e} (--rates, --pressure)")))?;
+        .or_else(|e| edmd::user_error(format!("jamming: {e} (--rates, --pressure)")))?;
     }
     let (ratio, large) = match (args.size_ratio, args.fraction_large) {
         (None, None) if D == 2 => (1.4, 0.5),
         (None, None) => (1.0, 0.0),
-        (None, Some(_)) => {
-            return crate::user_error("jamming: --fraction-large needs --size-ratio")
-        }
+        (None, Some(_)) => return edmd::user_error("jamming: --fraction-large needs --size-ratio"),
         (Some(r), f) => (r, f.unwrap_or(0.5)),
     };
     let sizes = PackSizes::Binary {
@@ -216,7 +214,7 @@ fn run_in<const D: usize>(args: &JammingArgs) -> Result<()> {
     };
     sizes
         .validate()
-        .or_else(|e| crate::user_error(e.to_string()))?;
+        .or_else(|e| edmd::user_error(e.to_string()))?;
     let crystal = args
         .crystal_packing
         .unwrap_or(if D == 3 { 0.66 } else { 0.86 });
@@ -237,7 +235,7 @@ fn run_in<const D: usize>(args: &JammingArgs) -> Result<()> {
             }
             let seed = args.common.seed.wrapping_add(k);
             let (discs, sim_box) = random_start::<D>(args.n, sizes, Boundary::Periodic, seed)
-                .or_else(|e| crate::user_error(e.to_string()))?;
+                .or_else(|e| edmd::user_error(e.to_string()))?;
             let options = PackOptions {
                 growth_rate: rate,
                 max_pressure: args.pressure,
@@ -246,7 +244,7 @@ fn run_in<const D: usize>(args: &JammingArgs) -> Result<()> {
             let start = Instant::now();
             let packing: Packing<D> = Packer::new(&discs, sim_box, options)
                 .and_then(|p| p.run_watched(|_| !stop_requested(), stop_requested))
-                .or_else(|e| crate::user_error(e.to_string()))?;
+                .or_else(|e| edmd::user_error(e.to_string()))?;
             if packing.stop == Stop::Interrupted {
                 interrupted = true;
                 break;

@@ -91,12 +91,12 @@ fn run_in<const D: usize>(args: &MaxwellArgs) -> Result<()> {
     super::common::check_count("maxwell", "snapshots", args.snapshots as u64, 1, 10_000)?;
     super::common::check_count("maxwell", "bins", args.bins as u64, 1, 10_000)?;
     if args.snapshots == 0 || args.bins < 2 {
-        return crate::user_error("maxwell: --snapshots must be >= 1 and --bins >= 2");
+        return edmd::user_error("maxwell: --snapshots must be >= 1 and --bins >= 2");
     }
     let dir = out_dir(&args.common)?;
     let (mut discs, bx) =
         lattice_fluid_in::<D>(args.n, args.packing, Boundary::Periodic, args.common.seed)
-            .or_else(|e| crate::user_error(format!("maxwell: {e}")))?;
+            .or_else(|e| edmd::user_error(format!("maxwell: {e}")))?;
     // Equal speeds sqrt(D) (kT = 1), random directions in opposite pairs (zero momentum).
     let mut rng = rand_pcg::Pcg64Mcg::seed_from_u64(args.common.seed);
     for k in (0..discs.len()).filter(|_| D == 3) {
@@ -141,7 +141,7 @@ fn run_in<const D: usize>(args: &MaxwellArgs) -> Result<()> {
     // Relax for 30 collisions per disc, then a snapshot every 5.
     let n = args.n as u64;
     if !run_collisions(&mut sim, 30 * n)? {
-        return crate::interrupted("interrupted while the gas relaxed: nothing written");
+        return edmd::interrupted("interrupted while the gas relaxed: nothing written");
     }
     let mut speeds = Speeds::new(args.bins, max);
     let progress = Progress::new(args.snapshots as u64, "maxwell");

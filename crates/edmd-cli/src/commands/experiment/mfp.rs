@@ -136,7 +136,7 @@ fn run_in<const D: usize>(args: &MfpArgs) -> Result<()> {
         let mut stopped = false;
         for b in 1..=blocks {
             let t = sim.time() + (t_end - sim.time()) / (blocks - b + 1) as f64;
-            if !crate::run_until_or_stop(&mut sim, t, &mut obs)? {
+            if !edmd::run_until_or_stop(&mut sim, t, &mut obs)? {
                 stopped = true;
                 break;
             }

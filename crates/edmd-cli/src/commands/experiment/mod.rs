@@ -61,12 +61,10 @@ pub fn run(which: &Experiment) -> Result<()> {
     // The experiments end a stopped run with `Interrupted` themselves; `jamming` writes its
     // results so far and returns, so its exit status is set here.
     let result = match (result, which) {
-        (Ok(()), Experiment::Jamming(a)) if common::stop_requested() => {
-            crate::interrupted(format!(
-                "interrupted: the results so far are written in {}",
-                a.common.out_dir.display()
-            ))
-        }
+        (Ok(()), Experiment::Jamming(a)) if common::stop_requested() => edmd::interrupted(format!(
+            "interrupted: the results so far are written in {}",
+            a.common.out_dir.display()
+        )),
         (r, _) => r,
     };
     if result.is_err() {

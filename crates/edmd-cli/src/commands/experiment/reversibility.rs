@@ -18,7 +18,7 @@ use super::common::{
     files_line, interrupted_after, out_dir, report, run_collisions, stop_requested, write_csv,
     CommonArgs, Progress,
 };
-use crate::user_error;
+use edmd::user_error;
 
 /// Options of `edmd experiment reversibility`.
 #[derive(Debug, Args)]
@@ -78,7 +78,7 @@ pub fn run(args: &ReversibilityArgs) -> Result<()> {
     // Start from a melted state, not the lattice.
     let mut melt = Simulation::new(&discs, bx, Options::default())?;
     if !run_collisions(&mut melt, 20 * args.n as u64)? {
-        return crate::interrupted("interrupted while melting the start: nothing written");
+        return edmd::interrupted("interrupted while melting the start: nothing written");
     }
     let start: Vec<Disc> = melt.discs();
     let diameter = 2.0 * start[0].radius;
@@ -90,12 +90,12 @@ pub fn run(args: &ReversibilityArgs) -> Result<()> {
         }
         let mut sim = Simulation::new(&start, bx, Options::default())?;
         let e0 = sim.kinetic_energy();
-        if !crate::run_until_or_stop(&mut sim, t, &mut ())? {
+        if !edmd::run_until_or_stop(&mut sim, t, &mut ())? {
             break;
         }
         let collisions = sim.stats().disc_disc;
         sim.reverse_velocities();
-        if !crate::run_until_or_stop(&mut sim, 2.0 * t, &mut ())? {
+        if !edmd::run_until_or_stop(&mut sim, 2.0 * t, &mut ())? {
             break;
         }
         let d2: Vec<f64> = start

@@ -329,6 +329,22 @@ pub fn check_distinct(inputs: &[(&str, &Path)], outputs: &[(&str, &Path)]) -> Re
     Ok(())
 }
 
+/// Writes a CSV file (header line, then one row per record), whole or not at all.
+pub fn write_csv(
+    path: &Path,
+    header: &[&str],
+    rows: impl IntoIterator<Item = Vec<f64>>,
+) -> Result<()> {
+    let mut f = AtomicFile::create(path)?;
+    let w = f.writer();
+    writeln!(w, "{}", header.join(","))?;
+    for row in rows {
+        let cells: Vec<String> = row.iter().map(|x| format!("{x:?}")).collect();
+        writeln!(w, "{}", cells.join(","))?;
+    }
+    f.commit()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -14,7 +14,7 @@ use edmd_core::Boundary;
 use edmd_io::princeton::ColumnOrder;
 use edmd_io::Format;
 
-use crate::args::BoundaryArg;
+use crate::options::BoundaryArg;
 use crate::output::AtomicFile;
 use crate::user_error;
 
@@ -28,7 +28,7 @@ pub struct GenArgs {
     #[arg(long, short, value_name = "FILE")]
     pub output: String,
     /// Dimension: 2 (discs) or 3 (spheres; fluid and mixture only).
-    #[arg(long, default_value_t = 2, value_parser = crate::args::parse_dim)]
+    #[arg(long, default_value_t = 2, value_parser = crate::options::parse_dim)]
     pub dim: usize,
     /// Random seed: the same seed gives the same file.
     #[arg(long, default_value_t = 1, allow_negative_numbers = true)]
@@ -206,7 +206,8 @@ fn write_system<const D: usize>(
 /// by collisions takes hours, a dense packing of a single disc (which never collides, so the
 /// compression never ends).
 fn check_cost(kind: &GenKind) -> Result<()> {
-    use crate::commands::experiment::common::{MAX_N, MIN_PACKING};
+    use crate::MAX_N;
+    use edmd_core::setup::MIN_PACKING;
     let name = kind.name();
     let (n, packing, min_n) = match kind {
         GenKind::OneRed(k) => (k.n, None, 1),

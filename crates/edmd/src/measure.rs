@@ -12,7 +12,7 @@ use edmd_core::{EventRecord, Observer, Simulation};
 use serde::{Deserialize, Serialize};
 use serde_json::{json, Value};
 
-use crate::commands::experiment::common::write_csv;
+use crate::output::write_csv;
 
 /// A measurement `edmd run` can attach.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, ValueEnum, Serialize, Deserialize)]

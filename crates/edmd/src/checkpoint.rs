@@ -1,0 +1,231 @@
+//! A run's checkpoint: the engine's state ([`edmd_core::Simulation::to_checkpoint`]) with what
+//! the run keeps beside it, the format of the file it started from and the measurements under
+//! way, so that `edmd run FILE.ckpt` and Python's pickles continue each other's runs.
+
+use std::io::Write;
+use std::path::Path;
+
+use anyhow::Result;
+use edmd_core::Simulation;
+use edmd_io::princeton::ColumnOrder;
+use edmd_io::Format;
+use serde::{Deserialize, Serialize};
+
+use crate::measure::{Measure, Measurements};
+use crate::output::AtomicFile;
+use crate::user_error;
+
+/// What a checkpoint keeps besides the engine state: the format of the file the run started
+/// from (the final state is written in it) and the measurements under way. `M` is
+/// `&Measuring` when written and `Measuring` when read: serde writes both the same way.
+#[derive(Serialize, Deserialize)]
+struct CheckpointExtra<M> {
+    format: String,
+    measuring: Option<M>,
+}
+
+/// Measurements under way and their sampling schedule: samples at `start + k * every`. Kept
+/// in checkpoints (by `edmd run` and by the Python package's pickles).
+#[derive(Serialize, Deserialize)]
+#[serde(bound = "")]
+pub struct Measuring<const D: usize> {
+    /// What is measured (sorted, each once).
+    pub which: Vec<Measure>,
+    /// Simulated time between samples.
+    pub every: f64,
+    /// When the measurements started.
+    pub start: f64,
+    /// Samples taken.
+    pub samples: u64,
+    /// The observers.
+    pub obs: Measurements<D>,
+}
+
+impl<const D: usize> Measuring<D> {
+    /// Starts measuring `which` on `sim` now, a sample every `every`.
+    pub fn new(sim: &Simulation<D>, which: &[Measure], every: f64) -> Self {
+        let mut which = which.to_vec();
+        which.sort();
+        which.dedup();
+        Measuring {
+            obs: Measurements::new(sim, &which),
+            which,
+            every,
+            start: sim.time(),
+            samples: 0,
+        }
+    }
+
+    /// Time of the next sample.
+    pub fn next_sample(&self) -> f64 {
+        self.start + (self.samples + 1) as f64 * self.every
+    }
+
+    /// Runs `sim` to time `t` with these measurements watching, taking the samples due on the
+    /// way (at `start + k * every`, as `edmd run --measure` takes them). Looks at the stop
+    /// flag ([`crate::stop::stop_requested`]) every [`crate::STOP_CHECK_EVENTS`] events:
+    /// `Ok(false)` when a stop was requested before `t`, `Ok(true)` once at `t`. A run whose
+    /// clock stops advancing is an error naming the discs.
+    pub fn run_to(&mut self, sim: &mut Simulation<D>, t: f64) -> Result<bool> {
+        loop {
+            let next = self.next_sample();
+            let to = if self.every > 0.0 && next <= t {
+                next
+            } else {
+                t
+            };
+            if !crate::run_until_or_stop(sim, to, &mut self.obs)? {
+                return Ok(false);
+            }
+            if to < t || (self.every > 0.0 && next == t) {
+                self.obs.sample(sim);
+                self.samples += 1;
+            }
+            if to >= t {
+                return Ok(true);
+            }
+        }
+    }
+
+    /// Whether measurements read back from a checkpoint can go on with `sim`.
+    pub fn fits(&self, sim: &Simulation<D>) -> bool {
+        self.obs.fits(sim) && !self.which.is_empty() && self.every > 0.0
+    }
+}
+
+/// The name a checkpoint keeps for the format of the file its run started from.
+pub fn format_name(format: Format) -> &'static str {
+    match format {
+        Format::Course => "course",
+        Format::Princeton(ColumnOrder::RadiusMass) => "princeton",
+        Format::Princeton(ColumnOrder::MassRadius) => "princeton-mass-radius",
+    }
+}
+
+/// The format and the measurements kept in a checkpoint's extra bytes; `None` when they cannot
+/// be read.
+pub fn read_extra<const D: usize>(extra: &[u8]) -> Option<(Format, Option<Measuring<D>>)> {
+    let extra = postcard::from_bytes::<CheckpointExtra<Measuring<D>>>(extra).ok()?;
+    let format = match extra.format.as_str() {
+        "course" => Format::Course,
+        "princeton-mass-radius" => Format::Princeton(ColumnOrder::MassRadius),
+        "princeton" => Format::Princeton(ColumnOrder::RadiusMass),
+        _ => return None,
+    };
+    Some((format, extra.measuring))
+}
+
+/// The bytes of a checkpoint of `sim`, as `edmd run --checkpoint` writes them for a run that
+/// started from a file of `format` with the measurements `measuring` under way (the Python
+/// package pickles with these, so that either program continues the other's checkpoints).
+pub fn checkpoint_bytes<const D: usize>(
+    sim: &Simulation<D>,
+    format: Format,
+    measuring: Option<&Measuring<D>>,
+) -> Result<Vec<u8>> {
+    let extra = CheckpointExtra {
+        format: format_name(format).to_string(),
+        measuring: measuring.filter(|m| !m.which.is_empty()),
+    };
+    Ok(sim.to_checkpoint(&postcard::to_stdvec(&extra)?))
+}
+
+/// A simulation, the format of its run's file and the measurements under way, from checkpoint
+/// bytes (as written by [`checkpoint_bytes`] or `edmd run --checkpoint`), or the reason they
+/// cannot be read.
+#[allow(clippy::type_complexity)]
+pub fn from_checkpoint_bytes<const D: usize>(
+    bytes: &[u8],
+) -> Result<(Simulation<D>, Format, Option<Measuring<D>>), String> {
+    let (sim, extra) = Simulation::<D>::from_checkpoint(bytes).map_err(|e| e.to_string())?;
+    let unreadable = "checkpoint: the run's settings or measurements are missing or unreadable";
+    let (format, measuring) = read_extra::<D>(&extra).ok_or(unreadable)?;
+    if measuring.as_ref().is_some_and(|m| !m.fits(&sim)) {
+        return Err(unreadable.into());
+    }
+    Ok((sim, format, measuring))
+}
+
+/// The names of measurements, as `--measure` takes them.
+pub fn measure_names(which: &[Measure]) -> String {
+    use clap::ValueEnum;
+    which
+        .iter()
+        .filter_map(|m| m.to_possible_value().map(|v| v.get_name().to_string()))
+        .collect::<Vec<_>>()
+        .join(",")
+}
+
+/// Reads `path` as a checkpoint if it starts with the checkpoint magic number; `None` for any
+/// other file (read as a data file then). A packing's checkpoint is refused by name.
+pub fn read_checkpoint(path: &Path) -> Result<Option<Vec<u8>>> {
+    if read_magic(path)?.is_some_and(|m| edmd_core::pack::is_pack_checkpoint(&m)) {
+        return user_error(format!(
+            "{}: a packing checkpoint (edmd pack continues it: edmd pack {} -o OUT), not a run's",
+            path.display(),
+            path.display()
+        ));
+    }
+    read_file_starting(path, edmd_core::CHECKPOINT_MAGIC)
+}
+
+/// The first 8 bytes of a regular file (`None` for `-`, a device, a folder, a shorter file or
+/// one that cannot be opened: those are left to the data file reader).
+pub fn read_magic(path: &Path) -> Result<Option<[u8; 8]>> {
+    use std::io::Read;
+    if path == Path::new("-") || std::fs::metadata(path).map_or(true, |m| !m.is_file()) {
+        return Ok(None);
+    }
+    let Ok(mut f) = std::fs::File::open(path) else {
+        return Ok(None);
+    };
+    let mut start = [0u8; 8];
+    Ok(f.read_exact(&mut start).is_ok().then_some(start))
+}
+
+/// Reads `path` whole if it is a regular file starting with `magic` (a checkpoint: at most
+/// [`crate::input::MAX_FILE`] bytes); `None` for any other file.
+pub fn read_file_starting(path: &Path, magic: &[u8; 8]) -> Result<Option<Vec<u8>>> {
+    use std::io::Read;
+    if read_magic(path)? != Some(*magic) {
+        return Ok(None);
+    }
+    let f = std::fs::File::open(path)
+        .or_else(|e| user_error(format!("{}: cannot read: {e}", path.display())))?;
+    let mut bytes = Vec::new();
+    f.take(crate::input::MAX_FILE as u64 + 1)
+        .read_to_end(&mut bytes)
+        .or_else(|e| user_error(format!("{}: cannot read: {e}", path.display())))?;
+    if bytes.len() > crate::input::MAX_FILE {
+        return user_error(format!(
+            "{}: checkpoint: larger than the largest file read",
+            path.display()
+        ));
+    }
+    Ok(Some(bytes))
+}
+
+/// Writes a checkpoint of `sim` to `path`, replacing the previous one atomically (a kill at any
+/// moment leaves the old one whole).
+pub fn write_checkpoint(path: &Path, bytes: &[u8]) -> Result<()> {
+    let mut f = AtomicFile::create(path)?;
+    f.writer().write_all(bytes)?;
+    f.commit()?;
+    Ok(())
+}
+
+/// The most trajectory frames or measurement samples one run may take.
+pub const MAX_STOPS: f64 = 1e6;
+
+/// The most bytes a `--trajectory` may take (100 GB). A run longer than that can write its
+/// trajectory in parts, a leg at a time, through checkpoints.
+pub const MAX_TRAJECTORY_BYTES: f64 = 1e11;
+
+/// Whether two paths name the same existing file.
+pub fn same_file(a: &Path, b: &Path) -> bool {
+    use std::os::unix::fs::MetadataExt;
+    match (std::fs::metadata(a), std::fs::metadata(b)) {
+        (Ok(x), Ok(y)) => x.dev() == y.dev() && x.ino() == y.ino(),
+        _ => false,
+    }
+}

@@ -1,0 +1,89 @@
+//! What every command-line front door shares (`edmd`, `particles`, `edmd-view`): usage
+//! errors in one line, the exit statuses (0 done, 1 an internal error, 2 a user's mistake,
+//! [`crate::INTERRUPTED_STATUS`] stopped by a signal), and standard output that survives a
+//! closed pipe.
+
+use std::process::ExitCode;
+
+use crate::{is_user_error, Interrupted, INTERRUPTED_STATUS};
+
+/// Prints a line on standard output. A closed pipe (`edmd ... | head`) is not an error: the
+/// reader has what it wanted, so the program ends quietly instead of panicking like
+/// `println!`.
+pub fn print_line(text: &str) {
+    use std::io::Write;
+    let mut out = std::io::stdout().lock();
+    if let Err(e) = writeln!(out, "{text}").and_then(|_| out.flush()) {
+        if e.kind() == std::io::ErrorKind::BrokenPipe {
+            std::process::exit(0);
+        }
+        eprintln!("error: cannot write to standard output: {e}");
+        std::process::exit(1);
+    }
+}
+
+/// Runs a command body and turns its outcome into an exit status, printing errors in one line.
+pub fn exit_with(program: &str, result: anyhow::Result<()>) -> ExitCode {
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e)
+            if e.downcast_ref::<std::io::Error>()
+                .is_some_and(|io| io.kind() == std::io::ErrorKind::BrokenPipe) =>
+        {
+            // The reader went away (`particles f 10 | head`): it has what it wanted.
+            ExitCode::SUCCESS
+        }
+        Err(e) if e.downcast_ref::<Interrupted>().is_some() => {
+            eprintln!("{program}: {}", format!("{e:#}").replace('\n', " "));
+            ExitCode::from(INTERRUPTED_STATUS)
+        }
+        Err(e) => {
+            let user = is_user_error(&e);
+            let msg = format!("{e:#}").replace('\n', " ");
+            eprintln!("{program}: error: {msg}");
+            ExitCode::from(if user { 2 } else { 1 })
+        }
+    }
+}
+
+/// Parses command-line arguments with clap; usage errors become one line and exit status 2,
+/// `--help` and `--version` print as usual and exit 0.
+pub fn parse_args<P: clap::Parser>(program: &str) -> Result<P, ExitCode> {
+    match P::try_parse() {
+        Ok(p) => Ok(p),
+        Err(e) => {
+            use clap::error::ErrorKind;
+            if matches!(
+                e.kind(),
+                ErrorKind::DisplayHelp
+                    | ErrorKind::DisplayVersion
+                    | ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand
+            ) {
+                let _ = e.print();
+                return Err(
+                    if e.kind() == ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand {
+                        ExitCode::from(2)
+                    } else {
+                        ExitCode::SUCCESS
+                    },
+                );
+            }
+            eprintln!(
+                "{program}: error: {} (try '{program} --help')",
+                one_line(&e.render().to_string())
+            );
+            Err(ExitCode::from(2))
+        }
+    }
+}
+
+/// clap's message without the usage block, folded into one line.
+fn one_line(rendered: &str) -> String {
+    let body: Vec<&str> = rendered
+        .lines()
+        .take_while(|l| !l.starts_with("Usage:") && !l.starts_with("For more information"))
+        .map(str::trim)
+        .filter(|l| !l.is_empty())
+        .collect();
+    body.join(" ").trim_start_matches("error: ").to_string()
+}
