@@ -123,6 +123,34 @@ pub struct RunArgs {
     /// Check invariants at the end (no overlap, every disc in the box) and fail if broken.
     #[arg(long)]
     pub check: bool,
+    /// A heat bath (default none: energy is conserved). `andersen` redraws each particle's
+    /// velocity from the Maxwell-Boltzmann distribution at --kT, at the times of a Poisson
+    /// process of --rate per particle; seeded (--seed), and carried by checkpoints.
+    #[arg(long, value_enum, requires_all = ["kt", "rate"])]
+    pub thermostat: Option<ThermostatArg>,
+    /// The bath's temperature (energy units), with --thermostat.
+    #[arg(long = "kT", alias = "kt", value_name = "T", value_parser = parse_positive, requires = "thermostat", allow_negative_numbers = true)]
+    pub kt: Option<f64>,
+    /// Redraws per particle per unit time, with --thermostat.
+    #[arg(long, value_name = "NU", value_parser = parse_positive, requires = "thermostat", allow_negative_numbers = true)]
+    pub rate: Option<f64>,
+    /// Seed of the thermostat's redraws (default 1), with --thermostat.
+    #[arg(long, requires = "thermostat")]
+    pub seed: Option<u64>,
+}
+
+impl RunArgs {
+    /// The thermostat the options ask for.
+    pub fn andersen(&self) -> Option<edmd_core::Andersen> {
+        match (self.thermostat, self.kt, self.rate) {
+            (Some(ThermostatArg::Andersen), Some(kt), Some(rate)) => Some(edmd_core::Andersen {
+                kt,
+                rate,
+                seed: self.seed.unwrap_or(1),
+            }),
+            _ => None,
+        }
+    }
 }
 
 /// `edmd bench`.

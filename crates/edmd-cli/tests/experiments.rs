@@ -3,7 +3,7 @@
 
 use serde_json::Value;
 
-use crate::support::{ok_stdout, run};
+use crate::support::{ok_stdout, refused, run};
 
 fn experiment(args: &[&str]) -> (Value, tempfile::TempDir) {
     let dir = tempfile::tempdir().unwrap();
@@ -546,5 +546,68 @@ fn jamming_options_are_validated() {
             1,
             "{args:?}"
         );
+    }
+}
+
+#[test]
+fn square_well_json_rows_meet_the_exact_low_density_limits() {
+    // At rho = 0.005 (3D) and 0.01 (2D), lambda 1.5, kT 1.5: Z = 1 + B2 rho + O(rho^2) with the
+    // exact B2 (3D: (2 pi / 3)(1 - (lambda^3 - 1)(e^{1/kT} - 1)) = -2.620; 2D: (pi / 2)(1 -
+    // (lambda^2 - 1)(...)) = -0.290), U/N = (rho/2) Int u e^{-u/kT} dr. The second-order
+    // terms are below 1e-4 here; the runs aim at 2% errors, and each value must be within
+    // four of its errors (plus the neglected order) of the limit.
+    for (dim, rho) in [("3", 0.005), ("2", 0.01)] {
+        let (v, dir) = experiment(&[
+            "square-well",
+            "--dim",
+            dim,
+            "--density",
+            &rho.to_string(),
+            "--n",
+            "400",
+            "--precision",
+            "0.02",
+        ]);
+        assert_eq!(v["experiment"], "square-well");
+        let rows = v["rows"].as_array().unwrap();
+        assert_eq!(rows.len(), 1);
+        let r = &rows[0];
+        let f = |k: &str| r[k].as_f64().unwrap_or_else(|| panic!("{k} in {r}"));
+        assert_eq!((f("density"), f("kt"), f("lambda")), (rho, 1.5, 1.5));
+        let (z, z_err, z2) = (f("Z"), f("Z_error"), f("Z_second_virial"));
+        assert!(z_err > 0.0 && (z - z2).abs() < 4.0 * z_err + 2e-4, "{r}");
+        let (u, u_err, u1) = (
+            f("energy_per_particle"),
+            f("energy_per_particle_error"),
+            f("energy_per_particle_low_density"),
+        );
+        assert!(u < 0.0 && u_err > 0.0, "{r}");
+        assert!((u - u1).abs() < 4.0 * u_err + 0.01 * u1.abs(), "{r}");
+        assert!((f("kinetic_temperature") - 1.5).abs() < 0.05, "{r}");
+        assert_files(
+            &dir,
+            &[
+                "square-well.csv",
+                "square-well-z.png",
+                "square-well-z.svg",
+                "square-well-energy.png",
+                "square-well-energy.svg",
+            ],
+        );
+    }
+}
+
+#[test]
+fn square_well_refuses_bad_options_in_one_line() {
+    for (args, words) in [
+        (&["--lambda", "1"][..], "--lambda"),
+        (&["--kt", "0"][..], "--kt"),
+        (&["--density", "2"][..], "density 2"),
+        (&["--precision", "0"][..], "--precision"),
+        (&["--n", "3"][..], "--n"),
+    ] {
+        let mut a = vec!["experiment", "square-well"];
+        a.extend_from_slice(args);
+        refused(&run("edmd", &a, None), &[words]);
     }
 }

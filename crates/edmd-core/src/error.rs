@@ -99,6 +99,10 @@ pub enum Error {
     /// A requested value is out of range (generators, options).
     #[error("{0}")]
     Invalid(String),
+    /// A stepped potential that cannot be: steps out of order, not finite, inside the hard
+    /// core, or naming a species no disc has.
+    #[error("potential: {0}")]
+    BadPotential(String),
     /// A time beyond what the clock resolves for these discs (see
     /// [`crate::Simulation::clock_limit`]).
     #[error(

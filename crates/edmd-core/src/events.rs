@@ -38,6 +38,20 @@ pub enum EventKind {
         /// What happened there.
         hit: BarrierHit,
     },
+    /// Discs `i` and `j` met a step of their stepped potential.
+    Step {
+        /// The disc whose schedule held the event.
+        i: usize,
+        /// Its partner.
+        j: usize,
+        /// What happened there.
+        hit: StepHit,
+    },
+    /// Disc `i`'s velocity was redrawn by the thermostat.
+    Thermostat {
+        /// The disc.
+        i: usize,
+    },
     /// Disc `i` moved into a neighbouring cell (bookkeeping; no velocity change).
     CellCrossing {
         /// The disc.
@@ -60,6 +74,19 @@ pub enum BarrierHit {
     DoorPassed,
     /// Reached the doorway and the demon shut the door on it (bounced).
     DoorShut,
+}
+
+/// What happened when a pair met a step of its potential.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum StepHit {
+    /// Crossed the step inward (into a well, or over a shoulder).
+    Entered,
+    /// Crossed the step outward.
+    Left,
+    /// Met the step from outside and bounced off it (a shoulder too high to climb).
+    Repelled,
+    /// Met the step from inside and bounced back in (a well too deep to leave).
+    Held,
 }
 
 /// One processed event. The simulation's state has already been updated when observers see it.
@@ -86,4 +113,6 @@ pub(crate) enum Pending {
     Cell { axis: u8, side: Side },
     /// Barrier `index`: face (`part` 0), door edge lo/hi (1, 2), or the doorway's demon (3).
     Barrier { index: u16, part: u8 },
+    /// The thermostat's next redraw of the disc's velocity.
+    Thermostat,
 }

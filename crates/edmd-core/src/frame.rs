@@ -27,8 +27,8 @@ pub(crate) struct Kind {
 /// A run's checkpoint (`edmd run`).
 pub(crate) const RUN: Kind = Kind {
     magic: b"EDMDCKPT",
-    version: 3,
-    older: &[1, 2],
+    version: 4,
+    older: &[1, 2, 3],
     name: "a run checkpoint (edmd run continues it)",
 };
 

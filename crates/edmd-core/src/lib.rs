@@ -38,13 +38,15 @@ pub mod simulation;
 pub mod state;
 
 pub use error::Error;
-pub use events::{BarrierHit, EventKind, EventRecord, Side, Wall};
+pub use events::{BarrierHit, EventKind, EventRecord, Side, StepHit, Wall};
 pub use math::{Vector, DIM};
 pub use observer::{CollisionCounter, Observer};
 pub use resolve::CollisionRule;
 pub use simulation::{
-    checkpoint_dim, is_checkpoint, MultiContact, Options, OverlapPolicy, OverlapReport, Simulation,
-    Stall, StallCause, Stats, CHECKPOINT_MAGIC, CHECKPOINT_VERSION, CREEP_EVENTS_SPAN,
+    checkpoint_dim, is_checkpoint, Andersen, MultiContact, Options, OverlapPolicy, OverlapReport,
+    Simulation, Stall, StallCause, Stats, CHECKPOINT_MAGIC, CHECKPOINT_VERSION, CREEP_EVENTS_SPAN,
     MAX_BARRIERS, OVERLAP_ROUNDING, OVERLAP_TOLERANCE,
 };
-pub use state::{Barrier, Boundary, Colour, Demon, Disc, SimBox, System};
+pub use state::{
+    Barrier, Boundary, Colour, Demon, Disc, PairSteps, Potential, SimBox, Step, System,
+};

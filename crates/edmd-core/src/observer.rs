@@ -80,7 +80,9 @@ impl<const D: usize> Observer<D> for CollisionCounter {
                     self.wall[i] += 1;
                 }
             }
-            EventKind::CellCrossing { .. } => {}
+            EventKind::Step { .. }
+            | EventKind::Thermostat { .. }
+            | EventKind::CellCrossing { .. } => {}
         }
     }
 }

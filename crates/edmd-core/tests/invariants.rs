@@ -48,7 +48,9 @@ impl Observer for Watchdog {
                 self.last_partner[j] = Some((i, e.time));
             }
             EventKind::Wall { i, .. } | EventKind::Barrier { i, .. } => self.last_partner[i] = None,
-            EventKind::CellCrossing { .. } => {}
+            EventKind::Step { .. }
+            | EventKind::Thermostat { .. }
+            | EventKind::CellCrossing { .. } => {}
         }
     }
 }

@@ -13,4 +13,6 @@ mod pack;
 mod pack_checkpoint;
 mod physics;
 mod stall;
+mod stepped;
+mod thermostat;
 mod three_d;

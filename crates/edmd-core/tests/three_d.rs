@@ -21,7 +21,7 @@ impl Observer<3> for Log {
         match e.kind {
             EventKind::DiscDisc { i, j } => self.0.push((e.time, i.min(j), Some(i.max(j)))),
             EventKind::Wall { i, .. } => self.0.push((e.time, i, None)),
-            EventKind::CellCrossing { .. } | EventKind::Barrier { .. } => {}
+            _ => {}
         }
     }
 }

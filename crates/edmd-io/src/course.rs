@@ -36,6 +36,7 @@ impl CourseSystem {
             lines: self.lines,
             format: Format::Course,
             time: 0.0,
+            potential: Default::default(),
         }
     }
 }

@@ -1191,6 +1191,7 @@ fn build<const D: usize>(
         lines: (1..=n).collect(),
         format: Format::Princeton(ColumnOrder::RadiusMass),
         time,
+        potential: Default::default(),
     };
     (system, images)
 }

@@ -22,7 +22,7 @@ pub mod xyz;
 
 pub use text::ParseError;
 
-use edmd_core::{Barrier, Disc, SimBox};
+use edmd_core::{Barrier, Disc, Potential, SimBox};
 
 /// A system read from a file, with the line each disc came from (`D = 3` for spheres).
 #[derive(Clone, Debug, PartialEq)]
@@ -40,6 +40,8 @@ pub struct LoadedSystem<const D: usize = 2> {
     /// The time the state is at (`# edmd time T`; 0 without it, and always 0 in the course
     /// format, which has no place for it).
     pub time: f64,
+    /// The stepped pair potential (`# edmd potential`; none: hard cores alone).
+    pub potential: Potential,
 }
 
 /// The input formats.
@@ -124,6 +126,34 @@ pub fn write<const D: usize>(
     format: Format,
     time: f64,
 ) -> std::io::Result<()> {
+    write_with(
+        out,
+        discs,
+        sim_box,
+        barriers,
+        &Potential::default(),
+        format,
+        time,
+    )
+}
+
+/// [`write`] with a stepped potential (the Princeton format keeps it as `# edmd potential`
+/// lines; the course format has no place for one: an `InvalidInput` error).
+pub fn write_with<const D: usize>(
+    out: &mut impl std::io::Write,
+    discs: &[Disc<D>],
+    sim_box: &SimBox<D>,
+    barriers: &[Barrier],
+    potential: &Potential,
+    format: Format,
+    time: f64,
+) -> std::io::Result<()> {
+    if format == Format::Course && !potential.is_hard() {
+        return Err(std::io::Error::new(
+            std::io::ErrorKind::InvalidInput,
+            "the course format has no place for a stepped potential",
+        ));
+    }
     match format {
         Format::Course if D == 2 => {
             let flat: Vec<Disc> = discs.iter().map(|d| d.with_dim()).collect();
@@ -137,6 +167,8 @@ pub fn write<const D: usize>(
             std::io::ErrorKind::InvalidInput,
             "the course format holds 2D systems only",
         )),
-        Format::Princeton(order) => princeton::write(out, discs, sim_box, barriers, order, time),
+        Format::Princeton(order) => {
+            princeton::write_with(out, discs, sim_box, barriers, potential, order, time)
+        }
     }
 }

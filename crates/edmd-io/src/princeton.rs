@@ -20,6 +20,11 @@
 //!     (see `edmd_core::Barrier`); repeatable;
 //!   - `# edmd time T`: the time the state is at (default 0). `edmd run` writes it into the
 //!     states it writes and starts its clock there, so that chained runs keep the true time;
+//!   - `# edmd potential A B R1 E1 [R2 E2 ...]`: a stepped pair potential between species `A`
+//!     and `B` (see `edmd_core::Potential`): outside the hard core (the sum of the radii), steps
+//!     at distances `R1 < R2 < ...`, where the pair's energy changes by `Ek` as it moves inward
+//!     across `Rk` (`# edmd potential 0 0 1.5 -1` is a square well of depth 1 out to 1.5, `1.5
+//!     1` a shoulder of height 1); one line per pair of species;
 //! - an optional tenth column on any disc line: the species, a whole number (default 0);
 //! - `# edmd dim 3` (before the first disc line): a 3D file of spheres. Disc lines are then
 //!   `rx ry rz vx vy vz radius mass r g b [species]` (mass before radius with
@@ -27,7 +32,7 @@
 //!   `# edmd box LX LY LZ` takes three lengths and `# edmd boundary` one word or three;
 //!   barriers are 2D only. `# edmd dim 2` is allowed and changes nothing.
 
-use edmd_core::{Barrier, Boundary, Demon, Disc, SimBox, Vector};
+use edmd_core::{Barrier, Boundary, Demon, Disc, PairSteps, Potential, SimBox, Step, Vector};
 
 use crate::text::{count, err, exact, expect_end, number, Lines};
 use crate::{Format, LoadedSystem, ParseError};
@@ -201,7 +206,8 @@ pub fn parse_in<const D: usize>(
         at.push(line);
     }
     expect_end(&mut lines, n)?;
-    let (sim_box, barriers, time) = directives::<D>(&lines.directives)?;
+    let (sim_box, barriers, time, potential) = directives::<D>(&lines.directives)?;
+    check_potential(&potential, &discs)?;
     Ok(LoadedSystem {
         discs,
         sim_box,
@@ -209,6 +215,9 @@ pub fn parse_in<const D: usize>(
         lines: at,
         format: Format::Princeton(order),
         time,
+        potential: Potential {
+            pairs: potential.into_iter().map(|(_, p)| p).collect(),
+        },
     })
 }
 
@@ -224,10 +233,12 @@ fn dim_line(text: &str) -> Option<usize> {
 }
 
 /// Interprets the `# edmd` directives.
+#[allow(clippy::type_complexity)]
 fn directives<const D: usize>(
     list: &[(usize, Vec<&str>)],
-) -> Result<(SimBox<D>, Vec<Barrier>, f64), ParseError> {
+) -> Result<(SimBox<D>, Vec<Barrier>, f64, Vec<(usize, PairSteps)>), ParseError> {
     let mut sim_box = SimBox::<D>::walls([1.0; D]);
+    let mut potential: Vec<(usize, PairSteps)> = Vec::new();
     let mut barriers = Vec::new();
     let mut time = 0.0;
     let mut seen_time: Option<usize> = None;
@@ -284,6 +295,21 @@ fn directives<const D: usize>(
                     return Err(err(line, "the time must be >= 0"));
                 }
             }
+            Some("potential") => {
+                let pair = pair_steps(line, &w[1..])?;
+                if let Some((first, _)) = potential.iter().find(|(_, q)| {
+                    q.species == pair.species || q.species == (pair.species.1, pair.species.0)
+                }) {
+                    return Err(err(
+                        line,
+                        format!(
+                            "a second potential for species {} {} (the first is line {first}); give each pair once",
+                            pair.species.0, pair.species.1
+                        ),
+                    ));
+                }
+                potential.push((line, pair));
+            }
             Some("barrier") if D != 2 => return Err(err(line, "barriers exist in 2D files only")),
             Some("barrier") => barriers.push(barrier(line, &w[1..])?),
             // Read before the discs by `declared_dim`.
@@ -291,13 +317,91 @@ fn directives<const D: usize>(
             Some(other) => {
                 return Err(err(
                     line,
-                    format!("unknown edmd directive '{other}' (dim, box, boundary, barrier, time)"),
+                    format!("unknown edmd directive '{other}' (dim, box, boundary, barrier, time, potential)"),
                 ))
             }
             None => return Err(err(line, "empty edmd directive")),
         }
     }
-    Ok((sim_box, barriers, time))
+    Ok((sim_box, barriers, time, potential))
+}
+
+/// `A B R1 E1 [R2 E2 ...]`: species, then steps in increasing radius.
+fn pair_steps(line: usize, w: &[&str]) -> Result<PairSteps, ParseError> {
+    let usage = "expected 'potential A B R1 E1 [R2 E2 ...]' (species A and B, then each step's radius and energy)";
+    if w.len() < 4 || !w.len().is_multiple_of(2) {
+        return Err(err(line, usage));
+    }
+    let species = |s: &str| {
+        s.parse::<u16>()
+            .ok()
+            .filter(|&k| k < edmd_core::state::MAX_POTENTIAL_SPECIES)
+            .ok_or_else(|| {
+                err(
+                    line,
+                    format!(
+                        "potential: species must be a whole number from 0 to {}, found '{s}'",
+                        edmd_core::state::MAX_POTENTIAL_SPECIES - 1
+                    ),
+                )
+            })
+    };
+    let (a, b) = (species(w[0])?, species(w[1])?);
+    let mut steps = Vec::new();
+    for pair in w[2..].chunks(2) {
+        steps.push(Step {
+            radius: number(line, pair[0], "step radius")?,
+            energy: number(line, pair[1], "step energy")?,
+        });
+    }
+    let p = PairSteps {
+        species: (a, b),
+        steps,
+    };
+    Potential {
+        pairs: vec![p.clone()],
+    }
+    .validate()
+    .map_err(|e| err(line, e.to_string()))?;
+    Ok(p)
+}
+
+/// Refuses, at its line, a potential naming a species no disc has or a step inside the hard
+/// core of discs it applies to.
+fn check_potential<const D: usize>(
+    potential: &[(usize, PairSteps)],
+    discs: &[Disc<D>],
+) -> Result<(), ParseError> {
+    for (line, p) in potential {
+        let largest = |k: u16| {
+            discs
+                .iter()
+                .filter(|d| d.species == k)
+                .map(|d| d.radius)
+                .fold(None, |m: Option<f64>, r| Some(m.map_or(r, |m| m.max(r))))
+        };
+        let (a, b) = p.species;
+        let (Some(ra), Some(rb)) = (largest(a), largest(b)) else {
+            let missing = if largest(a).is_none() { a } else { b };
+            return Err(err(
+                *line,
+                format!("potential: no disc is of species {missing}"),
+            ));
+        };
+        if let Some(s) = p.steps.first() {
+            if s.radius <= ra + rb {
+                return Err(err(
+                    *line,
+                    format!(
+                        "potential: the step at {} is inside the hard core (contact distance {} of species {a} and {b})",
+                        s.radius,
+                        ra + rb
+                    ),
+                ));
+            }
+        }
+    }
+    Ok(())
 }
 
 /// `AXIS POSITION [door LO HI [demon FAST SLOW]]`.
@@ -346,6 +450,27 @@ pub fn write<const D: usize>(
     order: ColumnOrder,
     time: f64,
 ) -> std::io::Result<()> {
+    write_with(
+        out,
+        discs,
+        sim_box,
+        barriers,
+        &Potential::default(),
+        order,
+        time,
+    )
+}
+
+/// [`write`] with a stepped potential, written as `# edmd potential` lines.
+pub fn write_with<const D: usize>(
+    out: &mut impl std::io::Write,
+    discs: &[Disc<D>],
+    sim_box: &SimBox<D>,
+    barriers: &[Barrier],
+    potential: &Potential,
+    order: ColumnOrder,
+    time: f64,
+) -> std::io::Result<()> {
     writeln!(out, "{}", discs.len())?;
     if D != 2 {
         writeln!(out, "# edmd dim {D}")?;
@@ -388,6 +513,13 @@ pub fn write<const D: usize>(
     }
     if time != 0.0 {
         writeln!(out, "# edmd time {}", exact(time))?;
+    }
+    for p in potential.pairs.iter().filter(|p| !p.steps.is_empty()) {
+        write!(out, "# edmd potential {} {}", p.species.0, p.species.1)?;
+        for s in &p.steps {
+            write!(out, " {} {}", exact(s.radius), exact(s.energy))?;
+        }
+        writeln!(out)?;
     }
     let with_species = discs.iter().any(|d| d.species != 0);
     for d in discs {

@@ -1307,6 +1307,9 @@ fn _generate(
         size_ratio,
         fraction_large,
         spread,
+        well: None,
+        shoulder: None,
+        depth: None,
     };
     // `edmd gen`'s messages, with the Python argument names instead of its flags.
     let message = |e: anyhow::Error| {

@@ -9,7 +9,7 @@ use eframe::egui;
 use egui::{Color32, ColorImage, Key, TextureHandle, TextureOptions, ViewportCommand};
 use egui_plot::{Bar, BarChart, Legend, Line, Plot, PlotPoints};
 
-use edmd_core::EventKind;
+use edmd_core::{EventKind, StepHit};
 use edmd_draw::{pick, AnyScene, Colouring, View, OUTSIDE};
 
 use crate::model::Model;
@@ -258,6 +258,18 @@ impl<const D: usize> ViewerApp<D> {
                         format!("{one} {i} meets barrier {barrier}")
                     }
                     EventKind::CellCrossing { i, .. } => format!("{one} {i} changes cell"),
+                    EventKind::Thermostat { i } => {
+                        format!("{one} {i} is given a new velocity by the thermostat")
+                    }
+                    EventKind::Step { i, j, hit } => {
+                        let how = match hit {
+                            StepHit::Entered => "cross a step inward",
+                            StepHit::Left => "cross a step outward",
+                            StepHit::Repelled => "bounce off a step",
+                            StepHit::Held => "are held inside a step",
+                        };
+                        format!("{what_} {i} and {j} {how}")
+                    }
                 };
                 format!("t = {:.6}: {what}", e.time)
             }

@@ -41,6 +41,17 @@ pub struct Measuring<const D: usize> {
     pub obs: Measurements<D>,
 }
 
+/// [`Measuring`] as checkpoints kept it before energy and g(r) were measured.
+#[derive(Deserialize)]
+#[serde(bound = "")]
+struct MeasuringBefore<const D: usize> {
+    which: Vec<Measure>,
+    every: f64,
+    start: f64,
+    samples: u64,
+    obs: crate::measure::MeasurementsBefore<D>,
+}
+
 impl<const D: usize> Measuring<D> {
     /// Starts measuring `which` on `sim` now, a sample every `every`.
     pub fn new(sim: &Simulation<D>, which: &[Measure], every: f64) -> Self {
@@ -105,7 +116,22 @@ pub fn format_name(format: Format) -> &'static str {
 /// The format and the measurements kept in a checkpoint's extra bytes; `None` when they cannot
 /// be read.
 pub fn read_extra<const D: usize>(extra: &[u8]) -> Option<(Format, Option<Measuring<D>>)> {
-    let extra = postcard::from_bytes::<CheckpointExtra<Measuring<D>>>(extra).ok()?;
+    let extra = postcard::from_bytes::<CheckpointExtra<Measuring<D>>>(extra)
+        .ok()
+        .or_else(|| {
+            // Written before energy and g(r) were measured.
+            let e = postcard::from_bytes::<CheckpointExtra<MeasuringBefore<D>>>(extra).ok()?;
+            Some(CheckpointExtra {
+                format: e.format,
+                measuring: e.measuring.map(|m| Measuring {
+                    which: m.which,
+                    every: m.every,
+                    start: m.start,
+                    samples: m.samples,
+                    obs: m.obs.into(),
+                }),
+            })
+        })?;
     let format = match extra.format.as_str() {
         "course" => Format::Course,
         "princeton-mass-radius" => Format::Princeton(ColumnOrder::MassRadius),

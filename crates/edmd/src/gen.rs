@@ -81,6 +81,71 @@ pub struct GenArgs {
     /// Polydisperse mixture with diameters uniform in 1 +- SPREAD (instead of binary).
     #[arg(long, allow_negative_numbers = true)]
     pub spread: Option<f64>,
+    /// A square-well fluid: a well out to LAMBDA diameters (fluid).
+    #[arg(long, value_name = "LAMBDA", allow_negative_numbers = true)]
+    pub well: Option<f64>,
+    /// A square-shoulder fluid: a shoulder out to LAMBDA diameters (fluid).
+    #[arg(long, value_name = "LAMBDA", allow_negative_numbers = true)]
+    pub shoulder: Option<f64>,
+    /// Depth of the well or height of the shoulder (default 1).
+    #[arg(long, value_name = "E", allow_negative_numbers = true)]
+    pub depth: Option<f64>,
+}
+
+impl GenArgs {
+    /// The stepped potential `--well` or `--shoulder` asks for, for discs of diameter
+    /// `diameter` (none: hard cores alone).
+    pub fn potential(&self, diameter: f64) -> Result<edmd_core::Potential> {
+        let name = &self.kind;
+        let (lambda, sign) = match (self.well, self.shoulder) {
+            (None, None) => {
+                if self.depth.is_some() {
+                    return user_error(format!(
+                        "gen {name}: --depth goes with --well or --shoulder"
+                    ));
+                }
+                return Ok(edmd_core::Potential::default());
+            }
+            (Some(_), Some(_)) => {
+                return user_error(format!("gen {name}: give --well or --shoulder, not both"))
+            }
+            (Some(l), None) => (l, -1.0),
+            (None, Some(l)) => (l, 1.0),
+        };
+        if name != "fluid" {
+            return user_error(format!(
+                "gen {name}: --well and --shoulder make fluids only (gen fluid)"
+            ));
+        }
+        if !(lambda.is_finite() && lambda > 1.0 && lambda <= 100.0) {
+            return user_error(format!(
+                "gen {name}: the range must be above 1 and at most 100 diameters, found {lambda}"
+            ));
+        }
+        let depth = self.depth.unwrap_or(1.0);
+        if !(depth.is_finite() && depth > 0.0) {
+            return user_error(format!(
+                "gen {name}: --depth must be a finite number > 0, found {depth}"
+            ));
+        }
+        Ok(edmd_core::Potential::single(
+            0,
+            0,
+            lambda * diameter,
+            sign * depth,
+        ))
+    }
+
+    /// [`Self::potential`] for a generated system: its largest diameter.
+    pub fn potential_of(&self, generated: &Generated) -> Result<edmd_core::Potential> {
+        let largest = |r: f64, x: f64| r.max(x);
+        let diameter = 2.0
+            * match generated {
+                Generated::Two(s, _) => s.discs.iter().map(|d| d.radius).fold(0.0, largest),
+                Generated::Three(s) => s.discs.iter().map(|d| d.radius).fold(0.0, largest),
+            };
+        self.potential(diameter)
+    }
 }
 
 /// A generated system in its dimension, with the format `edmd gen` writes it in.
@@ -95,11 +160,16 @@ pub enum Generated {
 /// Runs `edmd gen`.
 pub fn run(args: &GenArgs) -> Result<()> {
     crate::output::check_file_destinations(&[("--output", Path::new(&args.output))])?;
-    match make(args)? {
-        Generated::Two(system, format) => write_system(&system, format, args),
-        Generated::Three(system) => {
-            write_system(&system, Format::Princeton(ColumnOrder::RadiusMass), args)
-        }
+    let generated = make(args)?;
+    let potential = args.potential_of(&generated)?;
+    match generated {
+        Generated::Two(system, format) => write_system(&system, &potential, format, args),
+        Generated::Three(system) => write_system(
+            &system,
+            &potential,
+            Format::Princeton(ColumnOrder::RadiusMass),
+            args,
+        ),
     }
 }
 
@@ -131,7 +201,7 @@ pub fn make(args: &GenArgs) -> Result<Generated> {
     } else {
         Format::Princeton(ColumnOrder::RadiusMass)
     };
-    Ok(Generated::Two(system, format))
+    Ok(Generated::Two(at_kt(system, args)?, format))
 }
 
 /// `edmd gen fluid|mixture --dim 3`: spheres, written as a 3D Princeton file.
@@ -159,33 +229,61 @@ fn make_3d(mut kind: GenKind, args: &GenArgs) -> Result<Generated> {
         _ => unreachable!("checked above"),
     };
     let (system, _) = made.or_else(|e| user_error(format!("gen {}: {e}", args.kind)))?;
-    Ok(Generated::Three(system))
+    Ok(Generated::Three(at_kt(system, args)?))
+}
+
+/// A fluid at `--kt`: the generator's velocities (kT = 1) scaled by `sqrt(kT)`.
+fn at_kt<const D: usize>(
+    mut system: edmd_core::System<D>,
+    args: &GenArgs,
+) -> Result<edmd_core::System<D>> {
+    if let (Some(kt), "fluid") = (args.kt, args.kind.as_str()) {
+        if !(kt.is_finite() && kt > 0.0) {
+            return user_error(format!(
+                "gen fluid: --kt must be a finite number > 0, found {kt}"
+            ));
+        }
+        let scale = kt.sqrt();
+        for d in &mut system.discs {
+            d.vel = d.vel * scale;
+        }
+    }
+    Ok(system)
 }
 
 /// Writes a generated system to `args.output` (atomically) or standard output.
 fn write_system<const D: usize>(
     system: &edmd_core::System<D>,
+    potential: &edmd_core::Potential,
     format: Format,
     args: &GenArgs,
 ) -> Result<()> {
+    if format == Format::Course && !potential.is_hard() {
+        return user_error(format!(
+            "gen {}: the course format has no place for a potential (--course with --well or --shoulder)",
+            args.kind
+        ));
+    }
     if args.output == "-" {
         let mut out = std::io::stdout().lock();
-        edmd_io::write(
+        edmd_io::write_with(
             &mut out,
             &system.discs,
             &system.sim_box,
             &system.barriers,
+            potential,
             format,
             0.0,
         )?;
         std::io::Write::flush(&mut out)?;
     } else {
         let mut f = AtomicFile::create(Path::new(&args.output))?;
-        edmd_io::write(
+        edmd_io::write_with(
             f.writer(),
             &system.discs,
             &system.sim_box,
             &system.barriers,
+            potential,
             format,
             0.0,
         )?;
@@ -322,6 +420,10 @@ fn apply(kind: &mut GenKind, a: &GenArgs) -> Result<()> {
             set!("n", n, k.n);
             set!("packing", a.packing, k.packing);
             set!("boundary", boundary, k.boundary);
+            // Applied to the velocities after the fluid is made (`at_kt`).
+            if a.kt.is_some() {
+                used.push("kt");
+            }
         }
         GenKind::Mixture(k) => {
             set!("n", n, k.n);

@@ -226,16 +226,26 @@ pub fn build_with_hint<const D: usize>(
             "particles refuses it; 'edmd run --rule swap --allow-overlaps' moves them in",
         )
     };
-    Simulation::with_barriers_at(&sys.discs, sys.sim_box, &sys.barriers, options, sys.time).or_else(
-        |e| {
-            user_error(refusal_at_line(
-                path,
-                &sys.lines,
-                e,
-                (overlap_hint, outside_hint),
-            ))
-        },
-    )
+    let built = if sys.potential.is_hard() {
+        Simulation::with_barriers_at(&sys.discs, sys.sim_box, &sys.barriers, options, sys.time)
+    } else {
+        Simulation::with_potential_at(
+            &sys.discs,
+            sys.sim_box,
+            &sys.barriers,
+            &sys.potential,
+            options,
+            sys.time,
+        )
+    };
+    built.or_else(|e| {
+        user_error(refusal_at_line(
+            path,
+            &sys.lines,
+            e,
+            (overlap_hint, outside_hint),
+        ))
+    })
 }
 
 /// The engine's refusal of the discs read from `path` as one line naming the offending disc's

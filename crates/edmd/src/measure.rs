@@ -6,7 +6,8 @@ use std::path::{Path, PathBuf};
 use anyhow::Result;
 use clap::ValueEnum;
 use edmd_core::measure::{
-    kinetic_temperature, Collisions, Diffusion, Pressure, SpeciesHalves, Speeds, Temperature,
+    kinetic_temperature, Collisions, Diffusion, Energy, Pressure, Rdf, SpeciesHalves, Speeds,
+    Temperature,
 };
 use edmd_core::{EventRecord, Observer, Simulation};
 use serde::{Deserialize, Serialize};
@@ -30,6 +31,12 @@ pub enum Measure {
     Msd,
     /// Fraction of each species in the left and right halves over time.
     Species,
+    /// Kinetic, potential and total energy per particle; with a thermostat, the heat capacity
+    /// from the fluctuations of the total energy.
+    Energy,
+    /// The radial distribution function g(r), out to 5 of the largest diameters (or half the
+    /// box).
+    Rdf,
 }
 
 impl Measure {
@@ -46,6 +53,8 @@ impl Measure {
             Measure::Speeds => &["speeds.csv"],
             Measure::Msd => &["msd.csv"],
             Measure::Species => &["species.csv"],
+            Measure::Energy => &["energy.csv"],
+            Measure::Rdf => &["rdf.csv"],
         }
     }
 }
@@ -60,6 +69,36 @@ pub struct Measurements<const D: usize = 2> {
     speeds: Option<Speeds>,
     msd: Option<Diffusion<D>>,
     species: Option<SpeciesHalves>,
+    energy: Option<Energy>,
+    rdf: Option<Rdf>,
+}
+
+/// [`Measurements`] as checkpoints kept them before `energy` and `rdf` were measured: read
+/// back, they go on as measurements with neither.
+#[derive(Deserialize)]
+#[serde(bound = "")]
+pub(crate) struct MeasurementsBefore<const D: usize> {
+    temperature: Option<Temperature>,
+    pressure: Option<Pressure>,
+    collisions: Option<Collisions>,
+    speeds: Option<Speeds>,
+    msd: Option<Diffusion<D>>,
+    species: Option<SpeciesHalves>,
+}
+
+impl<const D: usize> From<MeasurementsBefore<D>> for Measurements<D> {
+    fn from(m: MeasurementsBefore<D>) -> Self {
+        Measurements {
+            temperature: m.temperature,
+            pressure: m.pressure,
+            collisions: m.collisions,
+            speeds: m.speeds,
+            msd: m.msd,
+            species: m.species,
+            energy: None,
+            rdf: None,
+        }
+    }
 }
 
 impl<const D: usize> Measurements<D> {
@@ -91,6 +130,13 @@ impl<const D: usize> Measurements<D> {
             speeds: has(Measure::Speeds).then(|| Speeds::new(40, max_speed)),
             msd: has(Measure::Msd).then(|| Diffusion::new(sim)),
             species: has(Measure::Species).then(|| SpeciesHalves::new(sim, 0)),
+            energy: has(Measure::Energy).then(Energy::new),
+            rdf: has(Measure::Rdf).then(|| {
+                let largest = (0..sim.len())
+                    .map(|i| 2.0 * sim.radius(i))
+                    .fold(0.0, f64::max);
+                Rdf::new(sim, range(5.0 * largest), 250)
+            }),
         }
     }
 
@@ -120,6 +166,12 @@ impl<const D: usize> Measurements<D> {
             m.sample(sim);
         }
         if let Some(m) = &mut self.species {
+            m.sample(sim);
+        }
+        if let Some(m) = &mut self.energy {
+            m.sample(sim);
+        }
+        if let Some(m) = &mut self.rdf {
             m.sample(sim);
         }
     }
@@ -281,6 +333,54 @@ impl<const D: usize> Measurements<D> {
             out.insert(
                 "species".into(),
                 json!({"samples": s.samples, "overall": s.overall, "last": s.last}),
+            );
+        }
+        if let Some(m) = &self.energy {
+            let n = sim.len().max(1) as f64;
+            csv(
+                "energy.csv",
+                &[
+                    "time",
+                    "kinetic_per_particle",
+                    "potential_per_particle",
+                    "total_per_particle",
+                ],
+                m.series()
+                    .iter()
+                    .map(|&(t, k, u)| vec![t, k / n, u / n, (k + u) / n])
+                    .collect(),
+            );
+            let s = m.summary();
+            let est = |e: &edmd_core::measure::Estimate| json!({"value": e.value, "error": e.error, "blocks": e.blocks});
+            out.insert(
+                "energy".into(),
+                json!({"samples": s.samples,
+                       "potential_per_particle": est(&s.potential_per_particle),
+                       "kinetic_per_particle": est(&s.kinetic_per_particle),
+                       "total_per_particle": est(&s.total_per_particle),
+                       "relative_drift": if s.drift.is_nan() { Value::Null } else { json!(s.drift) },
+                       "heat_capacity_per_particle": s.heat_capacity.as_ref().map(est)}),
+            );
+        }
+        if let Some(m) = &self.rdf {
+            let curve = m.curve::<D>();
+            csv(
+                "rdf.csv",
+                &["r", "g"],
+                curve.iter().map(|&(r, g)| vec![r, g]).collect(),
+            );
+            // The first peak: where g is largest.
+            let peak = curve
+                .iter()
+                .copied()
+                .fold(
+                    (f64::NAN, f64::NEG_INFINITY),
+                    |a, b| if b.1 > a.1 { b } else { a },
+                );
+            out.insert(
+                "rdf".into(),
+                json!({"samples": m.samples(), "r_max": m.r_max(), "bins": curve.len(),
+                       "peak_r": peak.0, "peak_g": if curve.is_empty() { Value::Null } else { json!(peak.1) }}),
             );
         }
         (Value::Object(out), tables)

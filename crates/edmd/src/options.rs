@@ -33,6 +33,13 @@ pub enum RuleArg {
     Swap,
 }
 
+/// Heat bath.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum ThermostatArg {
+    /// Andersen: velocities redrawn from Maxwell-Boltzmann at Poisson times.
+    Andersen,
+}
+
 /// Boundary kind.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 pub enum BoundaryArg {

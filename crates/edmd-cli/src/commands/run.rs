@@ -50,8 +50,15 @@ pub struct Summary {
     pub seconds: f64,
     /// Disc-disc collisions per second of wall-clock time.
     pub collisions_per_second: f64,
-    /// `(E_end - E_start) / E_start` of the kinetic energy.
+    /// `(E_end - E_start) / E_start` of the energy (kinetic, plus potential under a stepped
+    /// potential).
     pub relative_energy_change: f64,
+    /// Under a stepped potential: events at its steps (crossings and bounces).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub step_events: Option<u64>,
+    /// Under a stepped potential: the potential energy at the end.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub potential_energy: Option<f64>,
     /// Discs moved into the box by `--allow-overlaps`.
     pub discs_moved_into_box: usize,
     /// Trajectory frames written.
@@ -120,6 +127,10 @@ fn run_in<const D: usize>(args: &RunArgs, sys: edmd_io::LoadedSystem<D>) -> Resu
             ));
         }
         sim.start_at(sys.time)
+            .or_else(|e| user_error(format!("{}: {e}", args.file)))?;
+    }
+    if let Some(bath) = args.andersen() {
+        sim.set_thermostat(Some(bath))
             .or_else(|e| user_error(format!("{}: {e}", args.file)))?;
     }
     execute(args, sim, sys.format, None)
@@ -258,6 +269,19 @@ fn check_carried<const D: usize>(
             None => return differs("--multi".into(), "binary collisions, no --multi".into()),
         }
     }
+    if let Some(asked) = args.andersen() {
+        let name = |a: edmd_core::Andersen| {
+            format!(
+                "--thermostat andersen --kT {} --rate {} --seed {}",
+                a.kt, a.rate, a.seed
+            )
+        };
+        match sim.thermostat() {
+            Some(carried) if carried == asked => {}
+            Some(carried) => return differs(name(asked), name(carried)),
+            None => return differs(name(asked), "no thermostat".into()),
+        }
+    }
     Ok(())
 }
 
@@ -296,7 +320,7 @@ fn execute<const D: usize>(
         None => None,
     };
 
-    let e0 = sim.kinetic_energy();
+    let e0 = sim.kinetic_energy() + sim.potential_energy();
     crate::commands::experiment::common::install_ctrlc();
     let progress = progress_bar(args.until);
     let started = Instant::now();
@@ -382,7 +406,7 @@ fn execute<const D: usize>(
 
     let discs = sim.discs();
     let stats: Stats = sim.stats();
-    let e1 = sim.kinetic_energy();
+    let e1 = sim.kinetic_energy() + sim.potential_energy();
     let summary = Summary {
         file: args.file.clone(),
         dim: D,
@@ -403,7 +427,9 @@ fn execute<const D: usize>(
         } else {
             0.0
         },
-        relative_energy_change: if e0 > 0.0 { (e1 - e0) / e0 } else { 0.0 },
+        relative_energy_change: if e0 != 0.0 { (e1 - e0) / e0.abs() } else { 0.0 },
+        step_events: sim.is_stepped().then_some(stats.step),
+        potential_energy: sim.is_stepped().then(|| sim.potential_energy()),
         discs_moved_into_box: sim.adjusted_discs(),
         frames,
     };
@@ -412,12 +438,14 @@ fn execute<const D: usize>(
         t.commit()?;
     }
     let to_stdout = args.output.as_deref() == Some("-");
+    let hard = edmd_core::Potential::default();
     let write_state = |mut w: &mut dyn Write| {
-        edmd_io::write(
+        edmd_io::write_with(
             &mut w,
             &discs,
             sim.sim_box(),
             sim.barriers(),
+            sim.potential().unwrap_or(&hard),
             format,
             sim.time(),
         )
@@ -664,6 +692,9 @@ fn human(s: &Summary) -> String {
     );
     if s.barrier_events > 0 {
         t += &format!("\nbarriers: {} events", s.barrier_events);
+    }
+    if let (Some(steps), Some(u)) = (s.step_events, s.potential_energy) {
+        t += &format!("\nsteps: {steps} events; potential energy at the end {u}");
     }
     if s.discs_moved_into_box > 0 {
         t += &format!(

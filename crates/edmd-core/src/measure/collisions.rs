@@ -257,7 +257,11 @@ impl<const D: usize> Observer<D> for Collisions {
                     self.collided(i, e.time, sim);
                 }
             }
-            EventKind::CellCrossing { .. } => {}
+            // Crossings of and bounces at a stepped potential's steps are not collisions of
+            // the hard cores.
+            EventKind::Step { .. }
+            | EventKind::Thermostat { .. }
+            | EventKind::CellCrossing { .. } => {}
         }
     }
 }

@@ -13,6 +13,8 @@
 //! | [`speeds`] | speed histogram, RMS speed, Kolmogorov-Smirnov test against the 2D Maxwell-Boltzmann law | no |
 //! | [`diffusion`] | mean square displacement and the diffusion coefficient | no |
 //! | [`species`] | composition of the two halves of the box over time | no |
+//! | [`energy`] | kinetic, potential and total energy; heat capacity in a heat bath | no |
+//! | [`rdf`] | the radial distribution function `g(r)` | no |
 //!
 //! ```
 //! use edmd_core::measure::{Collisions, Pressure};
@@ -36,16 +38,21 @@
 
 pub mod collisions;
 pub mod diffusion;
+pub mod energy;
 pub mod pressure;
+pub mod rdf;
 pub mod species;
 pub mod speeds;
+pub mod square_well_eos;
 pub mod stats;
 pub mod temperature;
 pub mod theory;
 
 pub use collisions::{CollisionBlock, CollisionSummary, Collisions, DiscFlights};
 pub use diffusion::{Diffusion, DiffusionFit};
+pub use energy::{Energy, EnergySummary};
 pub use pressure::{Pressure, PressureBlock, PressureSummary};
+pub use rdf::Rdf;
 pub use species::{SpeciesHalves, SpeciesSnapshot, SpeciesSummary};
 pub use speeds::{maxwell_cdf, maxwell_pdf, rayleigh_cdf, rayleigh_pdf, SpeedSummary, Speeds};
 pub use stats::{block_error, kolmogorov_q, ks_test, linear_fit, Estimate, Histogram, KsTest};

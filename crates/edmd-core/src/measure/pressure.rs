@@ -201,14 +201,20 @@ impl<const D: usize> Observer<D> for Pressure {
     #[inline]
     fn on_event(&mut self, e: &EventRecord<D>, sim: &Simulation<D>) {
         match e.kind {
-            EventKind::DiscDisc { i, j } => {
+            // Every impulse between a pair counts in the virial: hard-core collisions and the
+            // crossings of and bounces at a stepped potential's steps.
+            EventKind::DiscDisc { i, j } | EventKind::Step { i, j, .. } => {
                 let r_ij = sim
                     .sim_box()
                     .minimum_image(sim.position(i) - sim.position(j));
                 self.block_virial += r_ij.dot(e.impulse);
             }
             EventKind::Wall { wall, .. } => self.block_wall += e.impulse[wall.axis].abs(),
-            EventKind::Barrier { .. } | EventKind::CellCrossing { .. } => {}
+            // A redraw by the thermostat exchanges momentum with the bath, not with a pair or a
+            // wall: no pressure.
+            EventKind::Barrier { .. }
+            | EventKind::Thermostat { .. }
+            | EventKind::CellCrossing { .. } => {}
         }
     }
 }

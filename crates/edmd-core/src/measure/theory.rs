@@ -204,3 +204,83 @@ mod tests {
         }
     }
 }
+
+/// The volume of a `dim`-ball of radius `r` (the area of a disc in 2D).
+fn ball(dim: usize, r: f64) -> f64 {
+    if dim == 3 {
+        4.0 / 3.0 * std::f64::consts::PI * r.powi(3)
+    } else {
+        std::f64::consts::PI * r * r
+    }
+}
+
+/// The shells of a stepped potential outside a hard core `sigma`: `(inner radius, outer radius,
+/// energy)`, from the core out (steps innermost first, each with the energy change on crossing
+/// it inward, as [`crate::Potential`] takes them).
+fn shells(sigma: f64, steps: &[crate::Step]) -> Vec<(f64, f64, f64)> {
+    let mut out = Vec::with_capacity(steps.len());
+    let mut inner = sigma;
+    for (k, s) in steps.iter().enumerate() {
+        let u: f64 = steps[k..].iter().map(|x| x.energy).sum();
+        out.push((inner, s.radius, u));
+        inner = s.radius;
+    }
+    out
+}
+
+/// The exact second virial coefficient of a hard core `sigma` with `steps` at temperature
+/// `kt`, in `dim` dimensions: `B2 = -1/2 Int (exp(-u(r)/kT) - 1) dr`, which for a stepped
+/// potential is `1/2 [V(sigma) - sum_k (V(r_k) - V(r_{k-1})) (exp(-u_k/kT) - 1)]` with `V` the
+/// volume (area) of a ball and `u_k` the energy between steps `k - 1` and `k` (McQuarrie,
+/// *Statistical Mechanics* (1976), eq. 12-40; for a square well of depth `e` and range
+/// `lambda sigma` in 3D it is `(2 pi sigma^3 / 3) (1 - (lambda^3 - 1)(exp(e/kT) - 1))`).
+pub fn stepped_b2(dim: usize, sigma: f64, steps: &[crate::Step], kt: f64) -> f64 {
+    let mut b = ball(dim, sigma);
+    for (lo, hi, u) in shells(sigma, steps) {
+        b -= (ball(dim, hi) - ball(dim, lo)) * ((-u / kt).exp() - 1.0);
+    }
+    0.5 * b
+}
+
+/// The potential energy per particle of a dilute gas with a stepped potential to first order
+/// in the number density `rho`: `U/N = (rho / 2) Int u(r) exp(-u(r)/kT) dr`, the pair
+/// distribution at low density being the Boltzmann factor (Hansen and McDonald, *Theory of
+/// Simple Liquids*, 4th ed. (2013), section 2.5).
+pub fn stepped_energy_low_density(
+    dim: usize,
+    sigma: f64,
+    steps: &[crate::Step],
+    kt: f64,
+    rho: f64,
+) -> f64 {
+    let mut sum = 0.0;
+    for (lo, hi, u) in shells(sigma, steps) {
+        sum += (ball(dim, hi) - ball(dim, lo)) * u * (-u / kt).exp();
+    }
+    0.5 * rho * sum
+}
+
+#[cfg(test)]
+mod stepped_tests {
+    use super::*;
+
+    #[test]
+    fn the_square_well_b2_is_the_textbook_one() {
+        // 3D: (2 pi / 3)(1 - (lambda^3 - 1)(e^{1/kT} - 1)); 2D: (pi / 2)(1 - (lambda^2 - 1)(...)).
+        let well = [crate::Step {
+            radius: 1.5,
+            energy: -1.0,
+        }];
+        for kt in [1.0, 1.5, 3.0] {
+            let f = (1.0 / kt).exp() - 1.0;
+            let b3 = 2.0 * std::f64::consts::PI / 3.0 * (1.0 - (1.5f64.powi(3) - 1.0) * f);
+            let b2 = std::f64::consts::PI / 2.0 * (1.0 - (1.5f64.powi(2) - 1.0) * f);
+            assert!((stepped_b2(3, 1.0, &well, kt) - b3).abs() < 1e-13);
+            assert!((stepped_b2(2, 1.0, &well, kt) - b2).abs() < 1e-13);
+        }
+        // kT = 1.5, lambda = 1.5, 3D: B2 = -2.61981 sigma^3.
+        assert!((stepped_b2(3, 1.0, &well, 1.5) + 2.61981).abs() < 1e-5);
+        // No steps: the hard core, 2 pi sigma^3 / 3 and pi sigma^2 / 2.
+        assert!((stepped_b2(3, 1.0, &[], 1.0) - 2.0 * std::f64::consts::PI / 3.0).abs() < 1e-15);
+    }
+}

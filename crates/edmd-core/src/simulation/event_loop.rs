@@ -46,7 +46,12 @@ impl<const D: usize> Simulation<D> {
             if !t.is_finite() {
                 return None;
             }
-            if self.discard_if_stale(i) {
+            let stale = if self.steps.is_some() {
+                self.discard_if_stale::<true>(i)
+            } else {
+                self.discard_if_stale::<false>(i)
+            };
+            if stale {
                 continue;
             }
             return Some(t);
@@ -119,14 +124,27 @@ impl<const D: usize> Simulation<D> {
         if self.multi.is_some() {
             return self.run_loop_watched(t_limit, n, observer);
         }
+        // The interaction is a parameter of the loop, chosen here once per chunk: hard cores
+        // alone run a copy with no trace of the steps.
+        let stepped = self.steps.is_some();
         #[cfg(target_arch = "x86_64")]
         if self.v3 {
             // SAFETY: `run_loop_v3` only needs the processor features, and `v3` is only set
             // when `x86_64_v3` has found them (`set_portable_loop`).
             #[allow(unsafe_code)]
-            return unsafe { self.run_loop_v3(t_limit, n, observer) };
+            return unsafe {
+                if stepped {
+                    self.run_loop_v3::<O, true>(t_limit, n, observer)
+                } else {
+                    self.run_loop_v3::<O, false>(t_limit, n, observer)
+                }
+            };
         }
-        self.run_loop_inline(t_limit, n, observer)
+        if stepped {
+            self.run_loop_inline::<O, true>(t_limit, n, observer)
+        } else {
+            self.run_loop_inline::<O, false>(t_limit, n, observer)
+        }
     }
 
     /// [`Self::run_chunk`] compiled for x86-64-v3.
@@ -136,24 +154,25 @@ impl<const D: usize> Simulation<D> {
     #[cfg(target_arch = "x86_64")]
     #[allow(unsafe_code)]
     #[target_feature(enable = "avx,avx2,fma,bmi1,bmi2,lzcnt,popcnt,movbe")]
-    unsafe fn run_loop_v3<O: Observer<D>>(
+    unsafe fn run_loop_v3<O: Observer<D>, const STEPPED: bool>(
         &mut self,
         t_limit: f64,
         n: u64,
         observer: &mut O,
     ) -> u64 {
-        self.run_loop_inline(t_limit, n, observer)
+        self.run_loop_inline::<O, STEPPED>(t_limit, n, observer)
     }
 
+    /// The event loop, for hard cores alone or (`STEPPED`) with a stepped potential.
     #[inline(always)]
-    pub(super) fn run_loop_inline<O: Observer<D>>(
+    pub(super) fn run_loop_inline<O: Observer<D>, const STEPPED: bool>(
         &mut self,
         t_limit: f64,
         n: u64,
         observer: &mut O,
     ) -> u64 {
         for k in 0..n {
-            match self.step_inline(t_limit) {
+            match self.step_inline::<STEPPED>(t_limit) {
                 Some(e) => observer.on_event(&e, self),
                 None => return k,
             }
@@ -168,7 +187,8 @@ impl<const D: usize> Simulation<D> {
     #[inline(never)]
     fn run_loop_watched<O: Observer<D>>(&mut self, t_limit: f64, n: u64, observer: &mut O) -> u64 {
         for k in 0..n {
-            match self.step_inline(t_limit) {
+            // Multi-disc collisions are refused with a stepped potential.
+            match self.step_inline::<false>(t_limit) {
                 Some(e) => {
                     observer.on_event(&e, self);
                     if self.stall.is_some() {
@@ -201,7 +221,11 @@ impl<const D: usize> Simulation<D> {
         if self.stall.is_some() {
             return None;
         }
-        let e = self.step_inline(t_limit)?;
+        let e = if self.steps.is_some() {
+            self.step_inline::<true>(t_limit)?
+        } else {
+            self.step_inline::<false>(t_limit)?
+        };
         if let Some(cause) = self.count_events(1) {
             self.stall_pending(cause);
         }
@@ -209,7 +233,10 @@ impl<const D: usize> Simulation<D> {
     }
 
     #[inline(always)]
-    pub(super) fn step_inline(&mut self, t_limit: f64) -> Option<EventRecord<D>> {
+    pub(super) fn step_inline<const STEPPED: bool>(
+        &mut self,
+        t_limit: f64,
+    ) -> Option<EventRecord<D>> {
         loop {
             let (i, t) = self.queue.min()?;
             // Times are never NaN: `+inf` is "nothing ahead".
@@ -217,7 +244,7 @@ impl<const D: usize> Simulation<D> {
                 return None;
             }
             self.prefetch_upcoming();
-            if self.discard_if_stale(i) {
+            if self.discard_if_stale::<STEPPED>(i) {
                 continue;
             }
             self.event_time = t;
@@ -227,6 +254,9 @@ impl<const D: usize> Simulation<D> {
             // that each copy of the loop inlines the prediction twice (here and for stale
             // events) instead of six times.
             let (record, again) = match self.body[i].pending {
+                Pending::Disc { partner, .. } if STEPPED => {
+                    self.collide_stepped(i, partner as usize, t)
+                }
                 Pending::Disc { partner, .. } => self.collide(i, partner as usize, t),
                 Pending::Wall { axis, side } => {
                     (self.bounce(i, axis as usize, side, t), [i, NO_DISC])
@@ -237,11 +267,12 @@ impl<const D: usize> Simulation<D> {
                 Pending::Barrier { index, part } => {
                     (self.meet_barrier(i, index as usize, part, t), [i, NO_DISC])
                 }
+                Pending::Thermostat => (self.redraw(i, t), [i, NO_DISC]),
                 Pending::Nothing => unreachable!("finite time with nothing pending"),
             };
             for d in again {
                 if d != NO_DISC {
-                    self.predict(d);
+                    self.predict::<STEPPED>(d);
                 }
             }
             return Some(record);
@@ -305,7 +336,7 @@ impl<const D: usize> Simulation<D> {
     /// prediction, none before the second event (BENCHMARKS.md). Otherwise
     /// (2D, whose trajectories stay as they were, or no second event) `i` is predicted again.
     #[inline(always)]
-    pub(super) fn discard_if_stale(&mut self, i: usize) -> bool {
+    pub(super) fn discard_if_stale<const STEPPED: bool>(&mut self, i: usize) -> bool {
         if let Pending::Disc { partner, seen } = self.body[i].pending {
             if self.body[partner as usize].count != seen {
                 self.stats.stale = self.stats.stale.wrapping_add(1);
@@ -319,7 +350,7 @@ impl<const D: usize> Simulation<D> {
                     self.body[i].pending = second;
                     self.queue.set(i, t2);
                 } else {
-                    self.predict(i);
+                    self.predict::<STEPPED>(i);
                 }
                 return true;
             }

@@ -38,6 +38,8 @@ mod predict;
 #[cfg(target_arch = "x86_64")]
 mod scan_x86;
 mod stall;
+mod steps;
+mod thermostat;
 
 pub use check::OverlapReport;
 pub use event_loop::x86_64_v3_available;
@@ -48,6 +50,7 @@ pub use persist::{
     checkpoint_dim, is_checkpoint, FORMAT_VERSION as CHECKPOINT_VERSION, MAGIC as CHECKPOINT_MAGIC,
 };
 pub use stall::{Stall, StallCause, CREEP_EVENTS_SPAN, MIN_STALL_EVENTS, STALL_EVENTS_PER_DISC};
+pub use thermostat::Andersen;
 
 use crate::cells::CellGrid;
 use crate::error::Error;
@@ -56,7 +59,7 @@ use crate::hint::{records, Records};
 use crate::math::Vector;
 use crate::resolve::CollisionRule;
 use crate::schedule::{CalendarQueue, EventQueue};
-use crate::state::{Barrier, Colour, Disc, SimBox, System};
+use crate::state::{Barrier, Colour, Disc, Potential, SimBox, System};
 use barriers::validate_barriers;
 use check::validate_discs;
 
@@ -151,6 +154,11 @@ pub struct Simulation<const D: usize = 2> {
     chunk_events: u64,
     /// Set when the clock stopped advancing: the loops then do nothing.
     stall: Option<Stall>,
+    /// The stepped potential and the shells of its pairs; `None` for hard cores alone, which
+    /// run the event loop compiled without it (`run_chunk`).
+    steps: Option<Box<steps::Steps>>,
+    /// The Andersen thermostat, with each disc's next redraw; `None`: energy is conserved.
+    bath: Option<Box<thermostat::Bath>>,
 }
 
 /// The event queue for `n` discs in `D` dimensions. In 2D about two buckets per disc, as
@@ -204,6 +212,33 @@ impl<const D: usize> Simulation<D> {
         options: Options,
         t0: f64,
     ) -> Result<Self, Error> {
+        Self::assemble(discs, sim_box, barriers, None, options, t0)
+    }
+
+    /// [`Self::with_barriers_at`] with a stepped pair potential (see [`Potential`]): each pair
+    /// starts in the shell its distance puts it in, and the potential energy of the start is
+    /// counted. Refused with the reason for a potential that cannot be (steps out of order or
+    /// inside the hard core, a species no disc has), with multi-disc collisions, or with a rule
+    /// other than the elastic one.
+    pub fn with_potential_at(
+        discs: &[Disc<D>],
+        sim_box: SimBox<D>,
+        barriers: &[Barrier],
+        potential: &Potential,
+        options: Options,
+        t0: f64,
+    ) -> Result<Self, Error> {
+        Self::assemble(discs, sim_box, barriers, Some(potential), options, t0)
+    }
+
+    fn assemble(
+        discs: &[Disc<D>],
+        sim_box: SimBox<D>,
+        barriers: &[Barrier],
+        potential: Option<&Potential>,
+        options: Options,
+        t0: f64,
+    ) -> Result<Self, Error> {
         if !(t0.is_finite() && t0 >= 0.0) {
             return Err(Error::Invalid(format!(
                 "start time {t0:?} is not a finite time >= 0"
@@ -251,6 +286,27 @@ impl<const D: usize> Simulation<D> {
                 });
             }
         }
+        let steps = match potential {
+            None => None,
+            Some(p) => {
+                p.validate()?;
+                if p.is_hard() {
+                    None
+                } else {
+                    if options.multi.is_some() {
+                        return Err(Error::Invalid(
+                            "multi-disc collisions do not go with a stepped potential".into(),
+                        ));
+                    }
+                    if options.rule != CollisionRule::Elastic {
+                        return Err(Error::Invalid(
+                            "a stepped potential needs the elastic rule".into(),
+                        ));
+                    }
+                    Some(Box::new(steps::Steps::new(p, discs)?))
+                }
+            }
+        };
         let mut adjusted = 0;
         let mut body = records(discs.len());
         let mut outside = (None, 0usize);
@@ -285,7 +341,12 @@ impl<const D: usize> Simulation<D> {
                 return Err(Error::OutsideBox { first, count });
             }
         }
-        let max_diameter = discs.iter().map(|d| 2.0 * d.radius).fold(0.0, f64::max);
+        // Cells at least as wide as the longest reach of a pair: the largest diameter, or the
+        // outermost step.
+        let max_diameter = discs
+            .iter()
+            .map(|d| 2.0 * d.radius)
+            .fold(steps.as_ref().map_or(0.0, |s| s.range), f64::max);
         let grid = CellGrid::new(
             &sim_box,
             discs.len(),
@@ -327,6 +388,8 @@ impl<const D: usize> Simulation<D> {
             chunk_time: t0,
             chunk_events: 0,
             stall: None,
+            steps,
+            bath: None,
         };
         sim.check_clock(t0)?;
         sim.set_portable_loop(false);
@@ -336,6 +399,7 @@ impl<const D: usize> Simulation<D> {
         sim.mean_mv2 = sim.mean_mv2_now();
         sim.creep_span = sim.creep_span();
         sim.file_all_in_grid();
+        sim.assign_shells();
         if options.overlaps == OverlapPolicy::Refuse {
             if let Some((disc, barrier)) = sim.barrier_overlap() {
                 return Err(Error::BarrierOverlap { disc, barrier });
@@ -610,6 +674,10 @@ impl<const D: usize> Simulation<D> {
             + self.image.capacity() * size_of::<[i32; D]>()
             + self.queue.memory_bytes()
             + self.grid.memory_bytes()
+            + self.steps.as_ref().map_or(0, |s| {
+                s.shells.capacity() * size_of::<Vec<(u32, u8)>>()
+                    + s.shells.iter().map(|l| l.capacity() * 8).sum::<usize>()
+            })
     }
 }
 

@@ -83,4 +83,9 @@ pub struct Stats {
     pub stale: u64,
     /// Events at internal barriers (bounces and demon decisions).
     pub barrier: u64,
+    /// Events at the steps of a stepped potential (crossings and bounces); hard-core
+    /// collisions count in `disc_disc`.
+    pub step: u64,
+    /// Velocities redrawn by the Andersen thermostat.
+    pub thermostat: u64,
 }

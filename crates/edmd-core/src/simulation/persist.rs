@@ -31,7 +31,8 @@ use crate::frame::{self, Reader, Writer};
 /// The first bytes of every checkpoint.
 pub const MAGIC: &[u8; 8] = frame::RUN.magic;
 
-/// The checkpoint format this build writes. It reads this one, version 2 (which lacked the
+/// The checkpoint format this build writes. It reads this one, version 3 (which had no stepped
+/// potentials: it continues with hard cores alone), version 2 (which lacked the
 /// spheres' second-earliest events: a 3D version-2 checkpoint continues with none, so its
 /// first stale events are predicted afresh) and version 1 (which also lacked the stall
 /// watcher's chunk position: a version-1 checkpoint continues as if at a chunk's start).
@@ -68,6 +69,7 @@ fn describe(p: Pending) -> String {
         Pending::Wall { axis, side } => format!("wall contact (axis {axis}, {} side)", end(side)),
         Pending::Barrier { index, part } => format!("barrier event ({index}, part {part})"),
         Pending::Disc { partner, .. } => format!("collision with disc {partner}"),
+        Pending::Thermostat => "thermostat redraw".into(),
         Pending::Nothing => "no event".into(),
     }
 }
@@ -96,6 +98,7 @@ fn write_pending(w: &mut Writer, p: Pending) {
             w.u32(index as u32);
             w.u8(part);
         }
+        Pending::Thermostat => w.u8(5),
     }
 }
 
@@ -149,6 +152,7 @@ fn read_pending<const D: usize>(
                 part,
             }
         }
+        5 => Pending::Thermostat,
         x => return bad(format!("disc {i}: event code {x}")),
     };
     Ok(pending)
@@ -286,6 +290,47 @@ impl<const D: usize> Simulation<D> {
                 write_pending(&mut w, p);
             }
         }
+        // The stepped potential, its step count and every pair's shell (format 4).
+        match &self.steps {
+            None => w.u8(0),
+            Some(steps) => {
+                w.u8(1);
+                w.u64(self.stats.step);
+                let p = &steps.potential;
+                w.len(p.pairs.len());
+                for pair in &p.pairs {
+                    w.u32(pair.species.0 as u32);
+                    w.u32(pair.species.1 as u32);
+                    w.len(pair.steps.len());
+                    for st in &pair.steps {
+                        w.f64(st.radius);
+                        w.f64(st.energy);
+                    }
+                }
+                for list in &steps.shells {
+                    w.len(list.len());
+                    for &(j, sh) in list {
+                        w.u32(j);
+                        w.u8(sh);
+                    }
+                }
+            }
+        }
+        // The thermostat: its settings and each disc's next redraw and count (format 4).
+        match &self.bath {
+            None => w.u8(0),
+            Some(b) => {
+                w.u8(1);
+                w.u64(self.stats.thermostat);
+                w.f64(b.settings.kt);
+                w.f64(b.settings.rate);
+                w.u64(b.settings.seed);
+                for i in 0..n {
+                    w.f64(b.next[i]);
+                    w.u32(b.count[i]);
+                }
+            }
+        }
         w.bytes(extra);
         w.seal()
     }
@@ -346,6 +391,8 @@ impl<const D: usize> Simulation<D> {
             cell_crossing: r.u64()?,
             stale: r.u64()?,
             barrier: r.u64()?,
+            step: 0,
+            thermostat: 0,
         };
         let adjusted = r.u64()? as usize;
         let mean_mv2 = r.f64()?;
@@ -459,8 +506,6 @@ impl<const D: usize> Simulation<D> {
             return bad("the swap rule with unequal masses");
         }
         let max_diameter = body.iter().map(|b| 2.0 * b.radius).fold(0.0, f64::max);
-        let mut grid = CellGrid::new(&sim_box, n, if n == 0 { 1.0 } else { max_diameter })
-            .map_err(|e| Error::Checkpoint(format!("cell grid: {e}")))?;
         let cells = r.len(4)?;
         let mut head = Vec::with_capacity(cells);
         for _ in 0..cells {
@@ -480,8 +525,6 @@ impl<const D: usize> Simulation<D> {
             }
             cell.push(c);
         }
-        grid.restore(head, next, prev, cell)
-            .map_err(|what| Error::Checkpoint(format!("cell grid: {what}")))?;
         let k = r.len(8)?;
         let mut last_cluster = Vec::with_capacity(k);
         for _ in 0..k {
@@ -551,10 +594,111 @@ impl<const D: usize> Simulation<D> {
                 *s = (t, p);
             }
         }
+        let mut steps = None;
+        let mut step_events = 0;
+        if version >= 4 && r.flag("stepped potential")? {
+            step_events = r.u64()?;
+            let np = r.len(12)?;
+            let mut potential = crate::state::Potential::default();
+            for _ in 0..np {
+                let a = r.u32()?;
+                let b = r.u32()?;
+                if a > u16::MAX as u32 || b > u16::MAX as u32 {
+                    return bad(format!("potential species {a} {b}"));
+                }
+                let ns = r.len(16)?;
+                let mut list = Vec::with_capacity(ns);
+                for _ in 0..ns {
+                    list.push(crate::state::Step {
+                        radius: r.f64()?,
+                        energy: r.f64()?,
+                    });
+                }
+                potential.pairs.push(crate::state::PairSteps {
+                    species: (a as u16, b as u16),
+                    steps: list,
+                });
+            }
+            let discs: Vec<Disc<D>> = (0..n)
+                .map(|i| {
+                    let mut d = Disc::new(body[i].pos, body[i].vel, body[i].radius);
+                    d.species = species[i];
+                    d
+                })
+                .collect();
+            let mut st = super::steps::Steps::new(&potential, &discs)
+                .or_else(|e| bad(format!("stepped potential: {e}")))?;
+            for i in 0..n {
+                let k = r.len(5)?;
+                let mut list = Vec::with_capacity(k);
+                for _ in 0..k {
+                    let j = r.u32()?;
+                    let sh = r.u8()?;
+                    let steps_of_pair = (j as usize) < n && j as usize != i;
+                    let m = if steps_of_pair {
+                        st.table(species[i], species[j as usize])
+                            .map_or(0, |t| t.r.len())
+                    } else {
+                        0
+                    };
+                    if sh == 0 || sh as usize > m {
+                        return bad(format!("disc {i}: shell {sh} with disc {j}"));
+                    }
+                    list.push((j, sh));
+                }
+                st.shells[i] = list;
+            }
+            for (i, list) in st.shells.iter().enumerate() {
+                for &(j, sh) in list {
+                    if super::steps::shell_in(&st.shells[j as usize], i as u32) != sh
+                        || list.iter().filter(|e| e.0 == j).count() != 1
+                    {
+                        return bad(format!("discs {i} and {j}: shells that disagree"));
+                    }
+                }
+            }
+            steps = Some(Box::new(st));
+        }
+        let mut bath = None;
+        let mut redraws = 0;
+        if version >= 4 && r.flag("thermostat")? {
+            redraws = r.u64()?;
+            let settings = super::Andersen {
+                kt: r.f64()?,
+                rate: r.f64()?,
+                seed: r.u64()?,
+            };
+            settings
+                .validate()
+                .or_else(|e| bad(format!("thermostat: {e}")))?;
+            let (mut next, mut count) = (Vec::with_capacity(n), Vec::with_capacity(n));
+            for i in 0..n {
+                let t = r.f64()?;
+                if t.is_nan() || t < event_time {
+                    return bad(format!("disc {i}: thermostat redraw at t = {t}"));
+                }
+                next.push(t);
+                count.push(r.u32()?);
+            }
+            bath = Some(Box::new(super::thermostat::Bath {
+                settings,
+                next,
+                count,
+            }));
+        }
         let extra = r.bytes()?.to_vec();
         if !r.at_end() {
             return bad("bytes after the end of the state");
         }
+        // The grid as the simulation built it: cells as wide as the largest diameter or the
+        // outermost step.
+        let width = steps
+            .as_ref()
+            .map_or(max_diameter, |s| max_diameter.max(s.range));
+        let mut grid = CellGrid::new(&sim_box, n, if n == 0 { 1.0 } else { width })
+            .map_err(|e| Error::Checkpoint(format!("cell grid: {e}")))?;
+        grid.restore(head, next, prev, cell)
+            .map_err(|what| Error::Checkpoint(format!("cell grid: {what}")))?;
         let mut queue = super::new_queue::<D>(n);
         queue.begin_bulk();
         for (i, &t) in times.iter().enumerate() {
@@ -596,14 +740,21 @@ impl<const D: usize> Simulation<D> {
             chunk_time,
             chunk_events,
             stall,
+            steps,
+            bath,
         };
+        sim.stats.step = step_events;
+        sim.stats.thermostat = redraws;
         sim.set_portable_loop(false);
         // The yardstick is kept from the start (or the last change of velocities), and energy
         // is conserved to rounding (1e-9 relative in every fuzzed run, RELIABILITY.md): one that
         // is not the discs' would move the demon's thresholds and, far too large, keep the stall
         // watcher from seeing a creeping clock.
+        // (Under a stepped potential kinetic energy is exchanged with the steps', and under a
+        // thermostat with the bath, so only its finiteness is checked then.)
         let now_mv2 = sim.mean_mv2_now();
-        if !(mean_mv2.is_finite() && (mean_mv2 - now_mv2).abs() <= 1e-6 * now_mv2) {
+        let stepped = sim.steps.is_some() || sim.bath.is_some();
+        if !(mean_mv2.is_finite() && (stepped || (mean_mv2 - now_mv2).abs() <= 1e-6 * now_mv2)) {
             return bad(format!(
                 "mean m v^2 {mean_mv2}, where the discs' kinetic energy gives {now_mv2}"
             ));
@@ -647,7 +798,10 @@ impl<const D: usize> Simulation<D> {
                 }
                 let own_kind = matches!(
                     pending,
-                    Pending::Cell { .. } | Pending::Wall { .. } | Pending::Barrier { .. }
+                    Pending::Cell { .. }
+                        | Pending::Wall { .. }
+                        | Pending::Barrier { .. }
+                        | Pending::Thermostat
                 );
                 if own_kind && (t, pending) != (bound, own) {
                     return bad(format!(

@@ -16,7 +16,11 @@ impl<const D: usize> Simulation<D> {
     /// [`Self::predict`] as a function of its own, for the places off the event loop.
     #[inline(never)]
     pub(super) fn predict_outlined(&mut self, i: usize) {
-        self.predict(i);
+        if self.steps.is_some() {
+            self.predict::<true>(i);
+        } else {
+            self.predict::<false>(i);
+        }
     }
 
     /// The earliest barrier event of disc `i` from its own clock (when predicting, advanced to
@@ -102,30 +106,34 @@ impl<const D: usize> Simulation<D> {
         if !self.barriers.is_empty() {
             (best_t, best) = self.predict_barriers(i, best_t, best);
         }
+        if self.bath.is_some() {
+            (best_t, best) = self.bath_event(i, best_t, best);
+        }
         (best_t, best)
     }
 
-    /// Finds disc `i`'s earliest event from the last event time on and schedules it.
+    /// Finds disc `i`'s earliest event from the last event time on and schedules it (with the
+    /// steps of a stepped potential when `STEPPED`).
     #[inline(always)]
-    pub(super) fn predict(&mut self, i: usize) {
+    pub(super) fn predict<const STEPPED: bool>(&mut self, i: usize) {
         if self.far_contacts {
-            self.predict_far(i)
+            self.predict_far::<STEPPED>(i)
         } else {
-            self.predict_with::<false>(i)
+            self.predict_with::<false, STEPPED>(i)
         }
     }
 
     /// [`Self::predict`] with contact times in the far form, for systems whose candidates can
     /// be far apart ([`far_contacts`]): outlined, as such systems are few and small.
     #[inline(never)]
-    fn predict_far(&mut self, i: usize) {
-        self.predict_with::<true>(i)
+    fn predict_far<const STEPPED: bool>(&mut self, i: usize) {
+        self.predict_with::<true, STEPPED>(i)
     }
 
     /// [`Self::predict`], the contact times in the far form when `FAR`. Its start (cell exit,
     /// walls, barriers) is [`Self::own_event`]'s, which must stay in step with it.
     #[inline(always)]
-    fn predict_with<const FAR: bool>(&mut self, i: usize) {
+    fn predict_with<const FAR: bool, const STEPPED: bool>(&mut self, i: usize) {
         let t0 = self.event_time;
         self.body[i].advance_to(t0);
         let bi = self.body[i];
@@ -162,6 +170,9 @@ impl<const D: usize> Simulation<D> {
         if !self.barriers.is_empty() {
             (best_t, best) = self.predict_barriers(i, best_t, best);
         }
+        if self.bath.is_some() {
+            (best_t, best) = self.bath_event(i, best_t, best);
+        }
         // Every candidate's contact terms are worked out, and those that meet are kept, without
         // branches (whether a pair meets is a coin toss for the branch predictor); only the
         // kept ones pay for the square root and the division (BENCHMARKS.md).
@@ -171,7 +182,18 @@ impl<const D: usize> Simulation<D> {
         let simd = D == 3 && !FAR && self.v3;
         #[cfg(not(target_arch = "x86_64"))]
         let simd = false;
-        if simd {
+        if STEPPED {
+            let steps = self.steps.as_deref().expect("a stepped simulation");
+            super::steps::scan_stepped::<D, FAR>(
+                &self.grid,
+                &self.body,
+                &self.species,
+                steps,
+                i,
+                t0,
+                &mut nearest,
+            );
+        } else if simd {
             // Four candidates at a time, bit-identical to the scan below (`scan_x86.rs`).
             #[cfg(target_arch = "x86_64")]
             // SAFETY: `v3` is only set when the processor has AVX2 (`set_portable_loop`).

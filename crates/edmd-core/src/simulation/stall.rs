@@ -243,7 +243,12 @@ impl<const D: usize> Simulation<D> {
         let t = self.event_time;
         let mut discs = Vec::new();
         for _ in 0..STALL_SAMPLE {
-            let Some(e) = self.step_inline(t_limit) else {
+            let e = if self.steps.is_some() {
+                self.step_inline::<true>(t_limit)
+            } else {
+                self.step_inline::<false>(t_limit)
+            };
+            let Some(e) = e else {
                 return;
             };
             observer.on_event(&e, self);
@@ -253,9 +258,10 @@ impl<const D: usize> Simulation<D> {
             }
             self.still = self.still.saturating_add(1);
             match e.kind {
-                EventKind::DiscDisc { i, j } => discs.extend([i, j]),
+                EventKind::DiscDisc { i, j } | EventKind::Step { i, j, .. } => discs.extend([i, j]),
                 EventKind::Wall { i, .. }
                 | EventKind::Barrier { i, .. }
+                | EventKind::Thermostat { i }
                 | EventKind::CellCrossing { i, .. } => discs.push(i),
             }
             discs.extend(self.last_cluster.iter().copied());

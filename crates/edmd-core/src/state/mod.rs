@@ -2,10 +2,12 @@
 
 pub mod barrier;
 pub mod disc;
+pub mod potential;
 pub mod sim_box;
 
 pub use barrier::{Barrier, Demon};
 pub use disc::{Colour, Disc};
+pub use potential::{PairSteps, Potential, Step, MAX_POTENTIAL_SPECIES, MAX_STEPS};
 pub use sim_box::{Boundary, SimBox};
 
 /// A complete system description: discs, the box, and any internal barriers.

@@ -11,6 +11,7 @@ pub mod jamming;
 pub mod maxwell;
 pub mod mfp;
 pub mod reversibility;
+pub mod square_well;
 
 use anyhow::Result;
 use clap::Subcommand;
@@ -38,6 +39,9 @@ pub enum Experiment {
     Mfp(mfp::MfpArgs),
     /// Run forward, reverse the velocities, run back: how far from the start do the discs land?
     Reversibility(reversibility::ReversibilityArgs),
+    /// The square-well fluid in a heat bath: Z and the energy per particle against density,
+    /// with the exact low-density limits and (3D) Espindola-Heredia et al.'s equation of state.
+    SquareWell(square_well::SquareWellArgs),
 }
 
 /// Runs an experiment.
@@ -57,6 +61,7 @@ pub fn run(which: &Experiment) -> Result<()> {
         Experiment::Maxwell(a) => maxwell::run(a),
         Experiment::Mfp(a) => mfp::run(a),
         Experiment::Reversibility(a) => reversibility::run(a),
+        Experiment::SquareWell(a) => square_well::run(a),
     };
     // The experiments end a stopped run with `Interrupted` themselves; `jamming` writes its
     // results so far and returns, so its exit status is set here.
