@@ -271,7 +271,7 @@ mod stepped_tests {
             radius: 1.5,
             energy: -1.0,
         }];
-        for kt in [1.0, 1.5, 3.0] {
+        for kt in [1.0f64, 1.5, 3.0] {
             let f = (1.0 / kt).exp() - 1.0;
             let b3 = 2.0 * std::f64::consts::PI / 3.0 * (1.0 - (1.5f64.powi(3) - 1.0) * f);
             let b2 = std::f64::consts::PI / 2.0 * (1.0 - (1.5f64.powi(2) - 1.0) * f);
