@@ -291,6 +291,29 @@ impl<const D: usize> Simulation<D> {
         u
     }
 
+    /// The potential energy of the pairs disc `i` is in (each pair's whole energy: the sum
+    /// over all discs is twice [`Self::potential_energy`]). For colouring discs by energy.
+    pub fn potential_energy_of(&self, i: usize) -> f64 {
+        let Some(steps) = &self.steps else {
+            return 0.0;
+        };
+        steps.shells[i]
+            .iter()
+            .filter_map(|&(j, s)| {
+                steps
+                    .table(self.species[i], self.species[j as usize])
+                    .map(|t| Steps::energy(t, s))
+            })
+            .sum()
+    }
+
+    /// The discs disc `i` shares a shell above 0 with, and the shell (for drawing bonds).
+    pub fn partners_of(&self, i: usize) -> Vec<(usize, u8)> {
+        self.steps.as_ref().map_or_else(Vec::new, |s| {
+            s.shells[i].iter().map(|&(j, sh)| (j as usize, sh)).collect()
+        })
+    }
+
     /// The pairs inside at least one step, each once as `(i, j, shell)` with `i < j`; the
     /// shell counts the steps the pair is inside.
     pub fn shells(&self) -> Vec<(usize, usize, u8)> {
