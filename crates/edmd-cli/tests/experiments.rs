@@ -611,3 +611,50 @@ fn square_well_refuses_bad_options_in_one_line() {
         refused(&run("edmd", &a, None), &[words]);
     }
 }
+
+#[test]
+fn shoulder_crystals_go_from_expanded_to_condensed_and_the_dilute_gas_meets_b2() {
+    // Discs with a shoulder of height 1 out to 1.1 at kT = 0.25: the expanded triangular
+    // crystal at rho = 0.8 has its neighbours 1.2 apart, outside the shoulders (U/N near 0);
+    // the condensed one at rho = 1.12, 1.015 apart, has all six inside (U/N = 3 exactly, as no
+    // pair can leave). The dilute gas at rho = 0.01 meets 1 + B2 rho, B2 = (pi/2)(1 + (1.1^2 -
+    // 1)(1 - e^{-4})) = 1.8932 (exact), within its errors.
+    let (v, dir) = experiment(&[
+        "shoulder",
+        "--density",
+        "0.8,1.12",
+        "--cells",
+        "8",
+        "--precision",
+        "0.03",
+        "--max-blocks",
+        "60",
+    ]);
+    let rows = v["rows"].as_array().unwrap();
+    assert_eq!(rows.len(), 3);
+    let f = |r: &Value, k: &str| r[k].as_f64().unwrap_or_else(|| panic!("{k} in {r}"));
+    let (dilute, expanded, condensed) = (&rows[0], &rows[1], &rows[2]);
+    assert_eq!(dilute["start"], "fluid");
+    let b2 = std::f64::consts::PI / 2.0 * (1.0 + (1.1f64.powi(2) - 1.0) * (1.0 - (-4.0f64).exp()));
+    assert!((f(dilute, "Z_second_virial") - (1.0 + 0.01 * b2)).abs() < 1e-12);
+    assert!(
+        (f(dilute, "Z") - f(dilute, "Z_second_virial")).abs() < 4.0 * f(dilute, "Z_error") + 1e-3,
+        "{dilute}"
+    );
+    assert!(f(expanded, "energy_per_particle") < 0.2, "{expanded}");
+    assert_eq!(f(condensed, "energy_per_particle"), 3.0, "{condensed}");
+    assert!(f(condensed, "pressure") > f(expanded, "pressure"));
+    let p0 = v["transition_pressure_zero_temperature"].as_f64().unwrap();
+    // 3 / ((sqrt(3)/2)(1.1^2 - 1)).
+    assert!((p0 - 3.0 / (3f64.sqrt() / 2.0 * 0.21)).abs() < 1e-9, "{p0}");
+    assert_files(
+        &dir,
+        &[
+            "shoulder.csv",
+            "shoulder-pressure.png",
+            "shoulder-pressure.svg",
+            "shoulder-energy.png",
+            "shoulder-energy.svg",
+        ],
+    );
+}

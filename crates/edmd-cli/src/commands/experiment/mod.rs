@@ -11,6 +11,7 @@ pub mod jamming;
 pub mod maxwell;
 pub mod mfp;
 pub mod reversibility;
+pub mod shoulder;
 pub mod square_well;
 
 use anyhow::Result;
@@ -39,6 +40,10 @@ pub enum Experiment {
     Mfp(mfp::MfpArgs),
     /// Run forward, reverse the velocities, run back: how far from the start do the discs land?
     Reversibility(reversibility::ReversibilityArgs),
+    /// The square-shoulder model (Young and Alder): the isostructural solid-solid transition
+    /// as a loop or plateau of the pressure against density, and the exact second virial
+    /// coefficient at low density.
+    Shoulder(shoulder::ShoulderArgs),
     /// The square-well fluid in a heat bath: Z and the energy per particle against density,
     /// with the exact low-density limits and (3D) Espindola-Heredia et al.'s equation of state.
     SquareWell(square_well::SquareWellArgs),
@@ -61,6 +66,7 @@ pub fn run(which: &Experiment) -> Result<()> {
         Experiment::Maxwell(a) => maxwell::run(a),
         Experiment::Mfp(a) => mfp::run(a),
         Experiment::Reversibility(a) => reversibility::run(a),
+        Experiment::Shoulder(a) => shoulder::run(a),
         Experiment::SquareWell(a) => square_well::run(a),
     };
     // The experiments end a stopped run with `Interrupted` themselves; `jamming` writes its

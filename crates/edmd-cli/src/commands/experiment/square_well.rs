@@ -28,7 +28,7 @@ use edmd_plot::{Figure, Series};
 use serde::Serialize;
 
 use super::common::{
-    files_line, interrupted_after, out_dir, report, stop_requested, write_csv, CommonArgs, Progress,
+    files_line, interrupted_after, out_dir, report, write_csv, CommonArgs, Progress,
 };
 
 /// Options of `edmd experiment square-well`.
@@ -136,7 +136,7 @@ pub fn run(args: &SquareWellArgs) -> Result<()> {
 }
 
 /// The volume (area) of a particle of unit diameter.
-fn particle_volume<const D: usize>() -> f64 {
+pub(super) fn particle_volume<const D: usize>() -> f64 {
     if D == 3 {
         std::f64::consts::PI / 6.0
     } else {
@@ -199,53 +199,72 @@ fn particle_volume_for(dim: usize) -> f64 {
     }
 }
 
-/// What one density gave, or `None` if a stop was requested.
-fn measure<const D: usize>(
-    args: &SquareWellArgs,
-    n: usize,
-    rho: f64,
+/// How a stepped fluid is held and measured in the bath.
+pub(super) struct Bath {
+    /// Temperature.
+    pub kt: f64,
+    /// Redraws per particle per unit time.
+    pub rate: f64,
+    /// The relative error of Z and U/N aimed at.
+    pub precision: f64,
+    /// The most blocks.
+    pub max_blocks: usize,
+}
+
+/// What a run in the bath measured.
+pub(super) struct Measured {
+    /// Compressibility factor.
+    pub z: Estimate,
+    /// Potential energy per particle.
+    pub u: Estimate,
+    /// Heat capacity per particle.
+    pub cv: Estimate,
+    /// Mean kinetic temperature.
+    pub kt: f64,
+    /// Simulated time measured over.
+    pub time: f64,
+    /// Blocks.
+    pub blocks: usize,
+    /// Pair events (hard-core collisions and step events) measured over.
+    pub events: u64,
+}
+
+/// Runs `discs` in `bx` under `potential` in the bath: an equilibration (at least 50 pair
+/// events per particle and ten redraws per particle), then blocks of about 20 pair events per
+/// particle, each with 20 energy samples, until the errors of `Z` and `U/N` are within the
+/// precision (or the most blocks). `None` if a stop was requested. `what` names the system in
+/// messages.
+pub(super) fn measure_in_bath<const D: usize>(
+    what: &str,
+    discs: &[edmd_core::Disc<D>],
+    bx: edmd_core::SimBox<D>,
+    potential: &Potential,
+    bath: &Bath,
     seed: u64,
-) -> Result<Option<Row>> {
-    let steps = [Step {
-        radius: args.lambda,
-        energy: -1.0,
-    }];
-    let potential = Potential::single(0, 0, args.lambda, -1.0);
-    let (discs, bx) =
-        lattice_fluid_in::<D>(n, rho * particle_volume::<D>(), Boundary::Periodic, seed)
-            .or_else(|e| edmd::user_error(format!("square-well: density {rho}: {e}")))?;
-    let mut sim =
-        Simulation::with_potential_at(&discs, bx, &[], &potential, Options::default(), 0.0)
-            .or_else(|e| edmd::user_error(format!("square-well: density {rho}: {e}")))?;
+) -> Result<Option<Measured>> {
+    let n = discs.len();
+    let mut sim = Simulation::with_potential_at(discs, bx, &[], potential, Options::default(), 0.0)
+        .or_else(|e| edmd::user_error(format!("{what}: {e}")))?;
     sim.set_thermostat(Some(Andersen {
-        kt: args.kt,
-        rate: args.rate,
+        kt: bath.kt,
+        rate: bath.rate,
         seed,
     }))
-    .or_else(|e| edmd::user_error(format!("square-well: {e}")))?;
+    .or_else(|e| edmd::user_error(format!("{what}: {e}")))?;
     let events = |s: &Simulation<D>| s.stats().disc_disc + s.stats().step;
-    // Equilibration: the lattice melted and the well occupancy settled: at least 50 pair
-    // events per particle, and ten redraws per particle by the bath.
-    let t_bath = 10.0 / args.rate;
+    let t_bath = 10.0 / bath.rate;
     let e0 = events(&sim);
     while events(&sim) - e0 < 50 * n as u64 || sim.time() < t_bath {
-        if stop_requested() {
-            return Ok(None);
-        }
         let probe = sim.time() + 0.1 * t_bath;
         if !edmd::run_until_or_stop(&mut sim, probe, &mut ())? {
             return Ok(None);
         }
         if events(&sim) == e0 && sim.time() > 100.0 * t_bath {
-            return edmd::user_error(format!(
-                "square-well: density {rho}: no pair ever meets in this system"
-            ));
+            return edmd::user_error(format!("{what}: no pair ever meets in this system"));
         }
     }
-    // Blocks of about 20 pair events per particle (a few bath redraws at least), from the
-    // equilibration's event rate; 20 energy samples a block.
     let rate = (events(&sim) - e0) as f64 / sim.time().max(f64::MIN_POSITIVE);
-    let block = (20.0 * n as f64 / rate.max(f64::MIN_POSITIVE)).max(2.0 / args.rate);
+    let block = (20.0 * n as f64 / rate.max(f64::MIN_POSITIVE)).max(2.0 / bath.rate);
     let per_block = 20;
     let mut pressure = Pressure::new(&sim);
     let (t0, c0) = (sim.time(), events(&sim));
@@ -267,24 +286,58 @@ fn measure<const D: usize>(
         pressure.sample(&sim);
         u_blocks.push(u_sum / per_block as f64);
         blocks += 1;
-        if blocks >= 20 && blocks % 10 == 0 || blocks >= args.max_blocks {
+        if blocks >= 20 && blocks % 10 == 0 || blocks >= bath.max_blocks {
             let z = pressure.summary().z;
             let u = Estimate::new(mean(&u_blocks), &u_blocks);
-            let precise = |e: &Estimate| e.error <= args.precision * e.value.abs();
-            if (precise(&z) && precise(&u)) || blocks >= args.max_blocks {
+            // A zero energy (no pair inside a step, as in a dilute shoulder fluid) is exact.
+            let precise = |e: &Estimate| e.error <= bath.precision * e.value.abs();
+            if (precise(&z) && (precise(&u) || u.value == 0.0)) || blocks >= bath.max_blocks {
                 break;
             }
         }
     }
-    let z = pressure.summary().z;
-    let kt_mean = kt_sum / all_e.len() as f64;
     // C_V / (N k) = var(E) / (N kT^2), with an error from the variances of the blocks.
-    let cv_of = |e: &[f64]| variance(e) / (nf * args.kt * args.kt);
+    let cv_of = |e: &[f64]| variance(e) / (nf * bath.kt * bath.kt);
     let cv_blocks: Vec<f64> = all_e
         .chunks(per_block * (blocks / 10).max(1))
         .map(cv_of)
         .collect();
-    let cv = Estimate::new(cv_of(&all_e), &cv_blocks);
+    Ok(Some(Measured {
+        z: pressure.summary().z,
+        u: Estimate::new(mean(&u_blocks), &u_blocks),
+        cv: Estimate::new(cv_of(&all_e), &cv_blocks),
+        kt: kt_sum / all_e.len() as f64,
+        time: sim.time() - t0,
+        blocks,
+        events: events(&sim) - c0,
+    }))
+}
+
+/// What one density gave, or `None` if a stop was requested.
+fn measure<const D: usize>(
+    args: &SquareWellArgs,
+    n: usize,
+    rho: f64,
+    seed: u64,
+) -> Result<Option<Row>> {
+    let steps = [Step {
+        radius: args.lambda,
+        energy: -1.0,
+    }];
+    let potential = Potential::single(0, 0, args.lambda, -1.0);
+    let what = format!("square-well: density {rho}");
+    let (discs, bx) =
+        lattice_fluid_in::<D>(n, rho * particle_volume::<D>(), Boundary::Periodic, seed)
+            .or_else(|e| edmd::user_error(format!("{what}: {e}")))?;
+    let bath = Bath {
+        kt: args.kt,
+        rate: args.rate,
+        precision: args.precision,
+        max_blocks: args.max_blocks,
+    };
+    let Some(m) = measure_in_bath::<D>(&what, &discs, bx, &potential, &bath, seed)? else {
+        return Ok(None);
+    };
     let eos = (D == 3)
         .then(|| eos_values(args.lambda, args.kt, rho))
         .flatten();
@@ -293,20 +346,20 @@ fn measure<const D: usize>(
         density: rho,
         kt: args.kt,
         lambda: args.lambda,
-        z: z.value,
-        z_error: z.error,
-        energy_per_particle: mean(&u_blocks),
-        energy_per_particle_error: Estimate::new(0.0, &u_blocks).error,
-        heat_capacity: cv.value,
-        heat_capacity_error: cv.error,
-        kinetic_temperature: kt_mean,
+        z: m.z.value,
+        z_error: m.z.error,
+        energy_per_particle: m.u.value,
+        energy_per_particle_error: m.u.error,
+        heat_capacity: m.cv.value,
+        heat_capacity_error: m.cv.error,
+        kinetic_temperature: m.kt,
         z_second_virial: 1.0 + b2 * rho,
         energy_per_particle_low_density: stepped_energy_low_density(D, 1.0, &steps, args.kt, rho),
         z_eos: eos.map(|e| e.0),
         energy_per_particle_eos: eos.map(|e| e.1),
-        time: sim.time() - t0,
-        blocks,
-        events: events(&sim) - c0,
+        time: m.time,
+        blocks: m.blocks,
+        events: m.events,
     }))
 }
 
@@ -321,7 +374,7 @@ fn eos_values(lambda: f64, kt: f64, rho: f64) -> Option<(f64, f64)> {
     })
 }
 
-fn mean(v: &[f64]) -> f64 {
+pub(super) fn mean(v: &[f64]) -> f64 {
     v.iter().sum::<f64>() / v.len().max(1) as f64
 }
 
