@@ -17,7 +17,10 @@ Contents:
 
 - :class:`Simulation`: ``from_file``, ``from_arrays``, ``run``, the state as arrays,
   ``measure``/``results``, ``write`` (course, Princeton, extended XYZ, GSD, checkpoints);
-  pickling keeps the exact state.
+  pickling keeps the exact state. Stepped pair potentials (square wells, shoulders:
+  ``from_arrays(..., potential={(0, 0): [(1.5, -1.0)]})``, ``gen.fluid(well=1.5)``) with
+  ``potential``, ``potential_energy``, ``shells`` and ``shell_counts``; an Andersen heat bath
+  with ``set_thermostat(kT=..., rate=...)``.
 - :mod:`edmd.gen`: the generators of ``edmd gen`` (fluids, mixtures, the Princeton data sets).
 - :func:`pack`: the compression of ``edmd pack`` (Lubachevsky-Stillinger) to a jammed packing
   or to a packing fraction; returns ``(sim, summary)``: the packing as a :class:`Simulation`

@@ -12,6 +12,7 @@ Example::
     import edmd
     sim = edmd.gen.fluid(n=500, packing=0.4, dim=3, seed=2)   # a melted hard-sphere fluid
     sim = edmd.gen.mixture(n=400, size_ratio=1.4, fraction_large=0.5, seed=3)
+    sim = edmd.gen.fluid(n=500, packing=0.3, well=1.5, seed=4)   # a square-well fluid
 """
 
 from edmd import _check
@@ -19,7 +20,7 @@ from edmd._edmd import _generate as _compiled_generate
 
 # The options whose values are numbers, whole numbers, text and flags (`edmd gen`'s).
 _REAL = ("radius", "speed", "mass", "kt", "packing", "angle", "impact", "region", "big_radius",
-         "big_mass", "size_ratio", "fraction_large", "spread")
+         "big_mass", "size_ratio", "fraction_large", "spread", "well", "shoulder", "depth")
 
 
 def _generate(kind, **options):
@@ -121,16 +122,25 @@ def brownian(*, n=None, radius=None, mass=None, big_radius=None, big_mass=None, 
     )
 
 
-def fluid(*, n=None, packing=None, dim=2, boundary=None, seed=1, rule="elastic", multi=False):
+def fluid(*, n=None, packing=None, dim=2, boundary=None, well=None, shoulder=None, depth=None,
+          kt=None, seed=1, rule="elastic", multi=False):
     """A melted fluid of ``n`` equal discs (``dim=2``) or spheres (``dim=3``) at packing
     fraction ``packing``, with "periodic" (default) or "walls" ``boundary``
     (``edmd gen fluid``).
 
+    ``well=L`` makes it a square-well fluid: a well of depth ``depth`` (1 when None) out to
+    ``L`` diameters (``edmd gen fluid --well L``); ``shoulder=L`` a square-shoulder fluid of
+    height ``depth``. ``L`` is above 1 and at most 100. The potential is
+    ``sim.potential``, ``{(0, 0): [(L * diameter, -depth)]}`` for a well. ``kt`` scales the
+    velocities to temperature ``kt`` (1 when None). Wells and shoulders need the elastic rule
+    and binary collisions (``multi=False``).
+
     >>> sim = edmd.gen.fluid(n=1000, packing=0.5, seed=1)
+    >>> sw = edmd.gen.fluid(n=500, packing=0.3, well=1.5, kt=1.2, seed=1)
     """
     return _generate(
-        "fluid", dim=dim, seed=seed, n=n, packing=packing, boundary=boundary, rule=rule,
-        multi=multi,
+        "fluid", dim=dim, seed=seed, n=n, packing=packing, boundary=boundary, well=well,
+        shoulder=shoulder, depth=depth, kt=kt, rule=rule, multi=multi,
     )
 
 

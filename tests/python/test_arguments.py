@@ -106,6 +106,22 @@ def from_arrays_cases(tmp):
         ("rule", ["sticky", 5, True], lambda v: pair(rule=v)),
         ("multi", ["yes", 1, 0.0], lambda v: pair(multi=v)),
         ("allow_overlaps", ["yes", 1, 0.0], lambda v: pair(allow_overlaps=v)),
+        ("potential", [[(3.0, -1.0)], "well", 5, {0: [(3.0, -1.0)]}, {(0, 0): "3"},
+                       {(0, 0): [(NAN, -1.0)]}, {(0, 0): [(1.0, -1.0)]}, {(0, 9): [(3.0, -1.0)]},
+                       {(0, 0): [(4.0, -1.0), (3.0, 1.0)]}, {(0, 0): [("3", -1.0)]},
+                       {(0, 0): {"core": 2.5, "steps": [(3.0, -1.0)]}}],
+         lambda v: pair(potential=v)),
+    ]
+
+
+def thermostat_cases(tmp):
+    return [
+        ("kT", [-1, 0, NAN, INF, "1", 1 + 1j, True, [1.0]],
+         lambda v: small().set_thermostat(kT=v, rate=1.0)),
+        ("rate", [-1, 0, NAN, INF, "1", 1 + 1j, True, [1.0], None],
+         lambda v: small().set_thermostat(kT=1.0, rate=v)),
+        ("seed", [-1, 2**70, 1.5, "1", True],
+         lambda v: small().set_thermostat(kT=1.0, rate=1.0, seed=v)),
     ]
 
 
@@ -149,6 +165,10 @@ def gen_cases(tmp):
         ("fraction_large", [-1, 2] + REAL_HOSTILE,
          lambda v: edmd.gen.mixture(n=20, size_ratio=1.4, fraction_large=v)),
         ("spread", [-1] + REAL_HOSTILE, lambda v: edmd.gen.mixture(n=20, spread=v)),
+        ("well", [-1, 0, 1.0, 101] + REAL_HOSTILE, lambda v: edmd.gen.fluid(n=20, well=v)),
+        ("shoulder", [-1, 0, 1.0, 101] + REAL_HOSTILE,
+         lambda v: edmd.gen.fluid(n=20, shoulder=v)),
+        ("depth", [-1, 0] + REAL_HOSTILE, lambda v: edmd.gen.fluid(n=20, well=1.5, depth=v)),
     ]
     return cases
 
@@ -183,7 +203,7 @@ def pack_cases(tmp):
 
 
 GROUPS = [run_cases, measure_cases, write_cases, setter_cases, from_arrays_cases,
-          from_file_cases, gen_cases, pack_cases]
+          thermostat_cases, from_file_cases, gen_cases, pack_cases]
 
 
 def ids():

@@ -18,7 +18,8 @@ import pytest
 
 import edmd
 
-MEASUREMENTS = ["temperature", "pressure", "collisions", "speeds", "msd", "species"]
+MEASUREMENTS = ["temperature", "pressure", "collisions", "speeds", "msd", "species", "energy",
+                "rdf"]
 
 
 def empty():
@@ -35,6 +36,17 @@ def test_measurements_of_zero_particles_raise_no_panic(name):
         pickle.loads(pickle.dumps(sim))
     except Exception:
         pass  # a clear refusal is fine; a PanicException (a BaseException) fails the test
+
+
+def test_zero_particles_with_a_potential_and_a_thermostat():
+    sim = edmd.Simulation.from_arrays(np.zeros((0, 2)), np.zeros((0, 2)), 1.0, box=(10, 10),
+                                      potential={(0, 0): [(3.0, -1.0)]})
+    sim.set_thermostat(kT=1.0, rate=1.0)
+    sim.measure("energy", "rdf", every=0.1)
+    sim.run(until=1.0)
+    sim.results()
+    assert sim.shells.shape == (0, 3) and sim.potential_energy == 0.0
+    assert pickle.loads(pickle.dumps(sim)).thermostat == sim.thermostat
 
 
 def test_zero_particles_run_and_read():
@@ -91,6 +103,10 @@ USES = {
     "checkpoint": lambda sim: sim.checkpoint(),
     "repr": lambda sim: repr(sim),
     "pack_start": lambda sim: edmd.pack(start=sim, packing=0.3),
+    "set_thermostat": lambda sim: sim.set_thermostat(kT=1.0, rate=1.0),
+    "thermostat": lambda sim: sim.thermostat,
+    "shells": lambda sim: sim.shells,
+    "potential_energy": lambda sim: sim.potential_energy,
 }
 
 

@@ -194,6 +194,7 @@ pub struct Input {
     species: Vec<u16>,
     lengths: Vec<f64>,
     boundaries: Vec<Boundary>,
+    potential: Option<crate::potential::Parsed>,
 }
 
 impl Input {
@@ -206,6 +207,7 @@ impl Input {
         lengths: Option<&Bound<'_, PyAny>>,
         boundary: Option<&Bound<'_, PyAny>>,
         species: Option<&Bound<'_, PyAny>>,
+        potential: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<Self> {
         let (pos, n, dim) = float_matrix(positions, "positions")?;
         if dim != 2 && dim != 3 {
@@ -307,6 +309,15 @@ impl Input {
                 }
             }
         };
+        // The potential last: its hard cores are checked against the radii and species.
+        let potential = match potential {
+            Some(p) if !p.is_none() => {
+                let parsed = crate::potential::parse(p)?;
+                parsed.check_cores(&radii, &species)?;
+                Some(parsed)
+            }
+            _ => None,
+        };
         Ok(Input {
             dim,
             n,
@@ -317,11 +328,12 @@ impl Input {
             species,
             lengths,
             boundaries,
+            potential,
         })
     }
 
-    /// The simulation, in dimension `D` (= `self.dim`). The engine validates the discs and
-    /// the box; its message names the disc by index.
+    /// The simulation, in dimension `D` (= `self.dim`). The engine validates the discs, the
+    /// box and the potential; its message names the disc by index, or starts "potential:".
     pub fn build<const D: usize>(&self, options: Options) -> PyResult<Simulation<D>> {
         let row = |v: &[f64], i: usize| Vector::<D>(std::array::from_fn(|a| v[i * D + a]));
         let discs: Vec<Disc<D>> = (0..self.n)
@@ -338,7 +350,13 @@ impl Input {
             lengths: std::array::from_fn(|a| self.lengths[a]),
             boundaries: std::array::from_fn(|a| self.boundaries[a]),
         };
-        Simulation::new(&discs, sim_box, options).map_err(value_error)
+        match &self.potential {
+            Some(p) => {
+                Simulation::with_potential_at(&discs, sim_box, &[], &p.potential, options, 0.0)
+            }
+            None => Simulation::new(&discs, sim_box, options),
+        }
+        .map_err(value_error)
     }
 }
 

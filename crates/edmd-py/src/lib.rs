@@ -11,6 +11,7 @@
 mod args;
 mod arrays;
 mod pack;
+mod potential;
 mod state;
 
 use std::io::Write;
@@ -22,7 +23,7 @@ use edmd::output::AtomicFile;
 use edmd_core::{Boundary, CollisionRule, MultiContact, Options, OverlapPolicy, Simulation};
 use edmd_io::princeton::ColumnOrder;
 use edmd_io::Format;
-use numpy::PyArray1;
+use numpy::{PyArray1, PyArrayMethods};
 use pyo3::exceptions::{PyOSError, PyRuntimeError, PyTypeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyBytes, PyDict, PyTuple};
@@ -308,6 +309,11 @@ fn extension(path: &Path) -> Option<String> {
 /// arrays (`positions`, `velocities`, ...). Pickling and `copy.deepcopy` keep the exact state:
 /// a restored simulation continues bit for bit like the original.
 ///
+/// Beyond hard cores: a stepped pair potential (square wells, shoulders, ramps of steps;
+/// `from_arrays(potential=...)`, `edmd.gen.fluid(well=...)`, or a file's `# edmd potential`
+/// lines), read back as `potential`, `potential_energy`, `shells` and `shell_counts`; and an
+/// Andersen heat bath, `set_thermostat(kT=..., rate=...)`.
+///
 /// Threads: a simulation is used by one thread at a time. While `run` is under way in one
 /// thread, every use of the simulation from another thread (reading `positions`, pickling,
 /// another `run`, ...) raises `RuntimeError` at once rather than waiting; a callback of the
@@ -419,7 +425,8 @@ fn borrow_mut<'py>(slf: &Bound<'py, PySimulation>) -> PyResult<PyRefMut<'py, PyS
 #[pymethods]
 impl PySimulation {
     /// Reads a data file, as `edmd run FILE` does: the course format, the Princeton format
-    /// (with edmd's extension: 3D files, walls or periodic boundaries, barriers, species), a
+    /// (with edmd's extension: 3D files, walls or periodic boundaries, barriers, species,
+    /// stepped potentials from `# edmd potential` lines), a
     /// GSD file of the HOOMD schema (HOOMD-blue's, the `gsd` package's or edmd's own: a
     /// periodic box unless edmd wrote walls; positions and velocities to float32 precision,
     /// exact for files edmd wrote with `write`) or an `edmd run --checkpoint` file.
@@ -485,12 +492,23 @@ impl PySimulation {
     ///     multi: multi-disc collisions (False when None).
     ///     allow_overlaps: accept overlapping discs and move discs outside walls inside (False
     ///         when None).
+    ///     potential: a stepped pair potential (None: hard cores alone), as a dict mapping a
+    ///         pair of species `(a, b)` to its steps, innermost first: a list of
+    ///         `(radius, energy)` pairs, or `{"core": c, "steps": [...]}` where `core`, if
+    ///         given, must be the contact distance (sum of the radii) of every pair of discs of
+    ///         those species. `radius` is a distance between centres, outside the hard core;
+    ///         `energy` is the change of the pair's potential energy when it moves inward
+    ///         across the step: `{(0, 0): [(1.5, -1.0)]}` is a square well of depth 1 out to
+    ///         1.5, `{(0, 0): [(1.5, 1.0)]}` a shoulder of height 1. Pairs not named are hard
+    ///         cores only. Needs the elastic rule and binary collisions (no `multi`).
     ///
     /// Raises:
     ///     TypeError: an argument that is not numbers (strings, complex numbers, booleans,
     ///         None), naming the argument.
     ///     ValueError: shapes that do not match, non-finite values, a kinetic energy that
-    ///         overflows, overlapping discs, discs outside the box, a bad box.
+    ///         overflows, overlapping discs, discs outside the box, a bad box, a potential
+    ///         whose steps are not in increasing radius, lie inside the hard core, or name a
+    ///         species no disc has (the message starts "potential:").
     ///
     /// >>> import numpy as np
     /// >>> sim = edmd.Simulation.from_arrays([[2.0, 5.0], [8.0, 5.0]], [[1.0, 0.0], [-1.0, 0.0]],
@@ -498,8 +516,11 @@ impl PySimulation {
     /// >>> sim.run(until=2.5)
     /// >>> sim.stats["disc_disc"]
     /// 1
+    /// >>> well = edmd.Simulation.from_arrays([[5.0, 10.0], [8.0, 10.0]], [[0.5, 0.0], [-0.5, 0.0]],
+    /// ...                                    radii=0.5, box=(20.0, 20.0),
+    /// ...                                    potential={(0, 0): [(1.5, -1.0)]})
     #[staticmethod]
-    #[pyo3(signature = (positions, velocities, radii, masses=None, r#box=None, boundary=None, species=None, rule=None, multi=None, allow_overlaps=None))]
+    #[pyo3(signature = (positions, velocities, radii, masses=None, r#box=None, boundary=None, species=None, rule=None, multi=None, allow_overlaps=None, potential=None))]
     #[allow(clippy::too_many_arguments)]
     fn from_arrays(
         positions: &Bound<'_, PyAny>,
@@ -512,9 +533,10 @@ impl PySimulation {
         rule: Option<&Bound<'_, PyAny>>,
         multi: Option<&Bound<'_, PyAny>>,
         allow_overlaps: Option<&Bound<'_, PyAny>>,
+        potential: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<Self> {
         let input = arrays::Input::new(
-            positions, velocities, radii, masses, r#box, boundary, species,
+            positions, velocities, radii, masses, r#box, boundary, species, potential,
         )?;
         let opts = options(
             args::opt_text(rule, "rule")?
@@ -541,7 +563,9 @@ impl PySimulation {
     /// Advances the simulation, with the GIL released.
     ///
     /// Give exactly one of `until` (a time, at or after `time`) or `events` (a number of
-    /// events: collisions, wall bounces and cell crossings). Ctrl-C stops the run within a
+    /// events: collisions, wall bounces, cell crossings, barrier events, the steps of a
+    /// stepped potential and thermostat redraws, as `stats` counts them; stale events are
+    /// not counted). Ctrl-C stops the run within a
     /// fraction of a second with `KeyboardInterrupt`, leaving a consistent state at some time
     /// before `until`. Stopping never changes the trajectory: a run to T in pieces ends in
     /// exactly the state of one run to T, and in the state `edmd run --until T` writes.
@@ -715,7 +739,9 @@ impl PySimulation {
     ///
     /// The names are those of `edmd run --measure`: "temperature", "pressure" (wall and
     /// virial, Z = PA/NkT with block errors), "collisions" (collision frequency, free paths
-    /// and times), "speeds" (against the Maxwell-Boltzmann law), "msd", "species". Events are
+    /// and times), "speeds" (against the Maxwell-Boltzmann law), "msd", "species", "energy"
+    /// (kinetic, potential and total energy per particle; with a thermostat, the heat
+    /// capacity), "rdf" (the radial distribution function g(r)). Events are
     /// watched in Rust; samples are taken at `start + k * every` by `run(until=...)` (not by
     /// `run(events=...)`, which is not timed); `results()` gives what was measured. Attaching
     /// again starts afresh. Pickles and checkpoints keep the measurements under way. As with
@@ -749,7 +775,7 @@ impl PySimulation {
             })?;
             let m = Measure::from_str(&name, true).map_err(|_| {
                 value_error(format!(
-                    "measure: unknown measurement '{name}' (one of: temperature, pressure, collisions, speeds, msd, species)"
+                    "measure: unknown measurement '{name}' (one of: temperature, pressure, collisions, speeds, msd, species, energy, rdf)"
                 ))
             })?;
             which.push(m);
@@ -767,7 +793,8 @@ impl PySimulation {
     /// What the attached measurements found: a dict with one summary per measurement (the
     /// same numbers as `edmd run --measure --json`, estimates as {"value", "error", "blocks"})
     /// and "tables": the time series and histograms as dicts of numpy arrays, keyed by the
-    /// CSV file `edmd run` would write ("temperature", "pressure", "speeds", ...).
+    /// CSV file `edmd run` would write ("temperature", "pressure", "speeds", "energy", "rdf",
+    /// ...).
     fn results<'py>(slf: &Bound<'py, Self>) -> PyResult<Bound<'py, PyDict>> {
         let py = slf.py();
         let this = get(slf)?;
@@ -804,6 +831,10 @@ impl PySimulation {
     /// generators). The file appears whole or not at all: it is written under a temporary
     /// name and moved into place, as `edmd run` writes, and a refused call (a bad format, a
     /// system the course format cannot hold, a folder) leaves every file as it was.
+    ///
+    /// A stepped potential is written with the state in Princeton files (`# edmd potential`
+    /// lines, as `edmd run` writes them) and in checkpoints, so `from_file` reads it back;
+    /// XYZ and GSD frames hold no potential, and the course format refuses a stepped system.
     ///
     /// >>> sim.write("state.txt")
     #[pyo3(signature = (path, *, format=None))]
@@ -980,8 +1011,10 @@ impl PySimulation {
         Ok(each!(&get(slf)?.inner, s => s.sim.kinetic_energy()))
     }
 
-    /// Event counts so far: a dict with "disc_disc", "wall", "cell_crossing", "stale" and
-    /// "barrier" (as `edmd run` reports them).
+    /// Event counts so far: a dict with "disc_disc", "wall", "cell_crossing", "stale",
+    /// "barrier" (as `edmd run` reports them), "step" (crossings of and bounces off the steps
+    /// of a stepped potential; hard-core collisions count in "disc_disc") and "thermostat"
+    /// (velocities redrawn by the thermostat).
     #[getter]
     fn stats<'py>(slf: &Bound<'py, Self>) -> PyResult<Bound<'py, PyDict>> {
         let st = each!(&get(slf)?.inner, s => s.sim.stats());
@@ -991,7 +1024,145 @@ impl PySimulation {
         d.set_item("cell_crossing", st.cell_crossing)?;
         d.set_item("stale", st.stale)?;
         d.set_item("barrier", st.barrier)?;
+        d.set_item("step", st.step)?;
+        d.set_item("thermostat", st.thermostat)?;
         Ok(d)
+    }
+
+    /// The stepped pair potential, as `from_arrays` takes it: a dict mapping each pair of
+    /// species `(a, b)` that has steps to its steps, a list of `(radius, energy)` innermost
+    /// first; None for hard cores alone.
+    #[getter]
+    fn potential<'py>(slf: &Bound<'py, Self>) -> PyResult<Option<Bound<'py, PyDict>>> {
+        let this = get(slf)?;
+        each!(&this.inner, s => s.sim.potential().map(|p| potential::to_dict(slf.py(), p)))
+            .transpose()
+    }
+
+    /// Total potential energy of the stepped potential: the sum over pairs of the energy of
+    /// the shell each is in (0.0 for hard cores). `kinetic_energy + potential_energy` is
+    /// conserved (without a thermostat).
+    #[getter]
+    fn potential_energy(slf: &Bound<'_, Self>) -> PyResult<f64> {
+        Ok(each!(&get(slf)?.inner, s => s.sim.potential_energy()))
+    }
+
+    /// The pairs inside at least one step of the potential: an (k, 3) int64 array of rows
+    /// `(i, j, shell)`, `i < j`, sorted, where `shell` is the number of the pair's steps it is
+    /// inside (1 for a pair in a single square well). Empty for hard cores.
+    #[getter]
+    fn shells<'py>(slf: &Bound<'py, Self>) -> PyResult<Bound<'py, PyAny>> {
+        let this = get(slf)?;
+        let list = each!(&this.inner, s => s.sim.shells());
+        let k = list.len();
+        let flat: Vec<i64> = list
+            .iter()
+            .flat_map(|&(i, j, sh)| [i as i64, j as i64, i64::from(sh)])
+            .collect();
+        Ok(PyArray1::from_vec(slf.py(), flat)
+            .reshape([k, 3])?
+            .into_any())
+    }
+
+    /// How many pairs are in each shell: a dict {shell: number of pairs}, shells from 1 up
+    /// (only those holding a pair; empty for hard cores). For a square well, `{1: bonds}`.
+    #[getter]
+    fn shell_counts<'py>(slf: &Bound<'py, Self>) -> PyResult<Bound<'py, PyDict>> {
+        let this = get(slf)?;
+        let list = each!(&this.inner, s => s.sim.shells());
+        let mut counts = std::collections::BTreeMap::<u8, u64>::new();
+        for (_, _, sh) in list {
+            *counts.entry(sh).or_default() += 1;
+        }
+        let d = PyDict::new(slf.py());
+        for (sh, c) in counts {
+            d.set_item(sh, c)?;
+        }
+        Ok(d)
+    }
+
+    /// The heat bath: None (energy is conserved), or a dict {"kT", "rate", "seed"} for the
+    /// Andersen thermostat set by `set_thermostat` (`sim.set_thermostat(**sim.thermostat)`
+    /// sets it again).
+    #[getter]
+    fn thermostat<'py>(slf: &Bound<'py, Self>) -> PyResult<Option<Bound<'py, PyDict>>> {
+        let Some(a) = each!(&get(slf)?.inner, s => s.sim.thermostat()) else {
+            return Ok(None);
+        };
+        let d = PyDict::new(slf.py());
+        d.set_item("kT", a.kt)?;
+        d.set_item("rate", a.rate)?;
+        d.set_item("seed", a.seed)?;
+        Ok(Some(d))
+    }
+
+    /// Puts the particles in contact with an Andersen heat bath from now on, as
+    /// `edmd run --thermostat andersen --kT T --rate NU --seed S` does: each particle's
+    /// velocity is redrawn from the Maxwell-Boltzmann distribution at `kT` at the times of a
+    /// Poisson process of `rate` redraws per particle per unit time. `set_thermostat(None)`
+    /// removes the bath (energy is conserved again). The redraws are seeded by `seed` alone:
+    /// a run gives the same redraws however it is sliced, and pickles and checkpoints carry
+    /// the bath, so a restored simulation continues bit for bit. Redraws are counted in
+    /// `stats["thermostat"]`.
+    ///
+    /// Args:
+    ///     kT: the bath's temperature (energy units), a finite number > 0; None removes it.
+    ///     rate: redraws per particle per unit time, a finite number > 0 (needed with kT).
+    ///     seed: the seed of the redraws, a whole number from 0 to 2^64 - 1 (1 when None).
+    ///
+    /// >>> sim.set_thermostat(kT=1.5, rate=0.5)
+    /// >>> sim.set_thermostat(None)
+    #[pyo3(signature = (kT=None, *, rate=None, seed=None))]
+    #[allow(non_snake_case)]
+    fn set_thermostat(
+        slf: &Bound<'_, Self>,
+        kT: Option<&Bound<'_, PyAny>>,
+        rate: Option<&Bound<'_, PyAny>>,
+        seed: Option<&Bound<'_, PyAny>>,
+    ) -> PyResult<()> {
+        fn present<'a, 'py>(o: Option<&'a Bound<'py, PyAny>>) -> Option<&'a Bound<'py, PyAny>> {
+            o.filter(|o| !o.is_none())
+        }
+        let bath = match present(kT) {
+            None => {
+                if present(rate).is_some() || present(seed).is_some() {
+                    return Err(value_error(
+                        "set_thermostat: rate and seed go with kT (set_thermostat(None) removes the thermostat)",
+                    ));
+                }
+                None
+            }
+            Some(k) => {
+                let kt = args::real(k, "kT")?;
+                if !(kt.is_finite() && kt > 0.0) {
+                    return Err(value_error(format!(
+                        "kT: {} is not a finite number > 0",
+                        num(kt)
+                    )));
+                }
+                let Some(r) = present(rate) else {
+                    return Err(value_error(
+                        "rate: give the redraw rate (redraws per particle per unit time) with kT",
+                    ));
+                };
+                let rate = args::real(r, "rate")?;
+                if !(rate.is_finite() && rate > 0.0) {
+                    return Err(value_error(format!(
+                        "rate: {} is not a finite number > 0",
+                        num(rate)
+                    )));
+                }
+                let seed = present(seed)
+                    .map(|s| args::count(s, "seed"))
+                    .transpose()?
+                    .unwrap_or(1);
+                Some(edmd_core::Andersen { kt, rate, seed })
+            }
+        };
+        let mut this = get_mut(slf)?;
+        guarded("set_thermostat", || {
+            each!(&mut this.inner, s => s.sim.set_thermostat(bath)).map_err(value_error)
+        })
     }
 
     fn __repr__(slf: &Bound<'_, Self>) -> PyResult<String> {
@@ -1110,6 +1281,12 @@ fn render(inner: &Inner, kind: &str, path: &Path) -> PyResult<Vec<u8>> {
             }
             "checkpoint" => w = checkpoint_bytes(s)?,
             other => match format_from_name(other) {
+                Some(Format::Course) if s.sim.is_stepped() => {
+                    return Err(value_error(format!(
+                        "{}: cannot write the course format: it has no place for the stepped potential (write the Princeton format, or a checkpoint)",
+                        path.display()
+                    )))
+                }
                 Some(Format::Course) if s.sim.sim_box().lengths.len() == 2 => {
                     let flat: Vec<edmd_core::Disc> = discs.iter().map(|d| d.with_dim()).collect();
                     let b = s.sim.sim_box();
@@ -1130,8 +1307,14 @@ fn render(inner: &Inner, kind: &str, path: &Path) -> PyResult<Vec<u8>> {
                 Some(Format::Course) => {
                     return Err(value_error("format: the course format holds 2D systems only"))
                 }
-                Some(fmt) => edmd_io::write(&mut w, &discs, s.sim.sim_box(), s.sim.barriers(), fmt, s.sim.time())
-                    .map_err(io_error)?,
+                // The stepped potential, if any, as `# edmd potential` lines (as `edmd run`
+                // writes its output).
+                Some(fmt) => {
+                    let hard = edmd_core::Potential::default();
+                    let potential = s.sim.potential().unwrap_or(&hard);
+                    edmd_io::write_with(&mut w, &discs, s.sim.sim_box(), s.sim.barriers(), potential, fmt, s.sim.time())
+                        .map_err(io_error)?
+                }
                 None => {
                     return Err(value_error(format!(
                         "format: expected 'princeton', 'princeton-mass-radius', 'course', 'xyz', 'gsd' or 'checkpoint', got '{other}'"
@@ -1256,7 +1439,7 @@ fn _restore(data: &Bound<'_, PyAny>) -> PyResult<PySimulation> {
 /// Makes a system as `edmd gen KIND` does (same checks, messages and seeds) and returns it as
 /// a simulation. Called by the functions in `edmd.gen`.
 #[pyfunction]
-#[pyo3(signature = (kind, *, dim=2, seed=1, course=false, n=None, radius=None, speed=None, mass=None, kt=None, packing=None, boundary=None, angle=None, impact=None, region=None, big_radius=None, big_mass=None, size_ratio=None, fraction_large=None, spread=None, rule="elastic", multi=false))]
+#[pyo3(signature = (kind, *, dim=2, seed=1, course=false, n=None, radius=None, speed=None, mass=None, kt=None, packing=None, boundary=None, angle=None, impact=None, region=None, big_radius=None, big_mass=None, size_ratio=None, fraction_large=None, spread=None, well=None, shoulder=None, depth=None, rule="elastic", multi=false))]
 #[allow(clippy::too_many_arguments)]
 fn _generate(
     kind: &str,
@@ -1278,6 +1461,9 @@ fn _generate(
     size_ratio: Option<f64>,
     fraction_large: Option<f64>,
     spread: Option<f64>,
+    well: Option<f64>,
+    shoulder: Option<f64>,
+    depth: Option<f64>,
     rule: &str,
     multi: bool,
 ) -> PyResult<PySimulation> {
@@ -1307,9 +1493,9 @@ fn _generate(
         size_ratio,
         fraction_large,
         spread,
-        well: None,
-        shoulder: None,
-        depth: None,
+        well,
+        shoulder,
+        depth,
     };
     // `edmd gen`'s messages, with the Python argument names instead of its flags.
     let message = |e: anyhow::Error| {
@@ -1329,6 +1515,9 @@ fn _generate(
             "impact",
             "region",
             "spread",
+            "shoulder",
+            "well",
+            "depth",
             "course",
             "seed",
             "dim",
@@ -1336,22 +1525,55 @@ fn _generate(
         ] {
             m = m.replace(&format!("--{flag}"), &flag.replace('-', "_"));
         }
+        // The range of a well or shoulder is named in words only.
+        if m.contains("the range must be") {
+            if let Some(name) = [("well", well), ("shoulder", shoulder)]
+                .iter()
+                .find_map(|(name, v)| v.map(|_| *name))
+            {
+                m = format!("{name}: {m}");
+            }
+        }
         value_error(m)
     };
-    guarded("gen", || match make(&args).map_err(message)? {
-        Generated::Two(system, format) => {
-            let sim = Simulation::from_system(&system, opts)
-                .map_err(|e| value_error(format!("gen {kind}: {e}")))?;
-            Ok(PySimulation {
-                inner: Inner::Two(State::new(sim, format)),
-            })
+    /// The simulation of a generated system, with the potential `--well` or `--shoulder`
+    /// asks for (as `edmd run` builds the file `edmd gen` writes).
+    fn build<const D: usize>(
+        system: &edmd_core::System<D>,
+        potential: &edmd_core::Potential,
+        opts: Options,
+        kind: &str,
+    ) -> PyResult<Simulation<D>> {
+        if potential.is_hard() {
+            Simulation::from_system(system, opts)
+        } else {
+            Simulation::with_potential_at(
+                &system.discs,
+                system.sim_box,
+                &system.barriers,
+                potential,
+                opts,
+                0.0,
+            )
         }
-        Generated::Three(system) => {
-            let sim = Simulation::from_system(&system, opts)
-                .map_err(|e| value_error(format!("gen {kind}: {e}")))?;
-            Ok(PySimulation {
-                inner: Inner::Three(State::new(sim, Format::Princeton(ColumnOrder::RadiusMass))),
-            })
+        .map_err(|e| value_error(format!("gen {kind}: {e}")))
+    }
+    guarded("gen", || {
+        let generated = make(&args).map_err(message)?;
+        let potential = args.potential_of(&generated).map_err(message)?;
+        match generated {
+            Generated::Two(_, Format::Course) if !potential.is_hard() => Err(value_error(format!(
+                "gen {kind}: the course format has no place for a potential (course with well or shoulder)"
+            ))),
+            Generated::Two(system, format) => Ok(PySimulation {
+                inner: Inner::Two(State::new(build(&system, &potential, opts, kind)?, format)),
+            }),
+            Generated::Three(system) => Ok(PySimulation {
+                inner: Inner::Three(State::new(
+                    build(&system, &potential, opts, kind)?,
+                    Format::Princeton(ColumnOrder::RadiusMass),
+                )),
+            }),
         }
     })
 }

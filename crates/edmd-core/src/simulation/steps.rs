@@ -310,7 +310,10 @@ impl<const D: usize> Simulation<D> {
     /// The discs disc `i` shares a shell above 0 with, and the shell (for drawing bonds).
     pub fn partners_of(&self, i: usize) -> Vec<(usize, u8)> {
         self.steps.as_ref().map_or_else(Vec::new, |s| {
-            s.shells[i].iter().map(|&(j, sh)| (j as usize, sh)).collect()
+            s.shells[i]
+                .iter()
+                .map(|&(j, sh)| (j as usize, sh))
+                .collect()
         })
     }
 
