@@ -11,11 +11,12 @@ use libfuzzer_sys::fuzz_target;
 
 fn round_trip<const D: usize>(sys: &LoadedSystem<D>, order: ColumnOrder, text: &str) {
     let mut out = Vec::new();
-    princeton::write(
+    princeton::write_with(
         &mut out,
         &sys.discs,
         &sys.sim_box,
         &sys.barriers,
+        &sys.potential,
         order,
         sys.time,
     )
@@ -26,6 +27,7 @@ fn round_trip<const D: usize>(sys: &LoadedSystem<D>, order: ColumnOrder, text: &
     assert_eq!(again.sim_box, sys.sim_box);
     assert_eq!(again.barriers, sys.barriers);
     assert_eq!(again.time, sys.time);
+    assert_eq!(again.potential, sys.potential);
     check_loaded(sys, text);
 }
 

@@ -262,7 +262,7 @@ pub struct Watch {
     /// Time of the last event seen.
     pub last: f64,
     /// Disc-disc, wall, cell-crossing and barrier events seen.
-    pub counts: [u64; 4],
+    pub counts: [u64; 6],
 }
 
 impl<const D: usize> Observer<D> for Watch {
@@ -286,6 +286,8 @@ impl<const D: usize> Observer<D> for Watch {
             EventKind::Wall { .. } => 1,
             EventKind::CellCrossing { .. } => 2,
             EventKind::Barrier { .. } => 3,
+            EventKind::Step { .. } => 4,
+            EventKind::Thermostat { .. } => 5,
         };
         self.counts[k] += 1;
     }
@@ -303,7 +305,7 @@ pub fn run_checked<const D: usize>(sim: &mut Simulation<D>, events: u64) -> u64 
     let all_periodic = (0..D).all(|a| sim.sim_box().is_periodic(a)) && sim.barriers().is_empty();
     let mut watch = Watch {
         last: sim.time(),
-        counts: [0; 4],
+        counts: [0; 6],
     };
     let mut done = 0;
     while done < events {
@@ -318,8 +320,10 @@ pub fn run_checked<const D: usize>(sim: &mut Simulation<D>, events: u64) -> u64 
             after.wall - before.wall,
             after.cell_crossing - before.cell_crossing,
             after.barrier - before.barrier,
+            after.step - before.step,
+            after.thermostat - before.thermostat,
         ];
-        let delta: Vec<u64> = (0..4).map(|a| watch.counts[a] - seen[a]).collect();
+        let delta: Vec<u64> = (0..6).map(|a| watch.counts[a] - seen[a]).collect();
         assert_eq!(
             moved.to_vec(),
             delta,
@@ -420,7 +424,17 @@ pub fn check_loaded<const D: usize>(sys: &edmd_io::LoadedSystem<D>, text: &str) 
         return;
     }
     let refuse = Options::default();
-    let _ = Simulation::with_barriers(&sys.discs, sys.sim_box, &sys.barriers, refuse);
+    let build = |options| {
+        Simulation::with_potential_at(
+            &sys.discs,
+            sys.sim_box,
+            &sys.barriers,
+            &sys.potential,
+            options,
+            0.0,
+        )
+    };
+    let _ = build(refuse);
     if !discs_are_tame(&sys.discs, &sys.sim_box) || sys.discs.len() > 5000 {
         return;
     }
@@ -428,8 +442,10 @@ pub fn check_loaded<const D: usize>(sys: &edmd_io::LoadedSystem<D>, text: &str) 
         overlaps: OverlapPolicy::Allow,
         ..Options::default()
     };
-    if let Ok(mut sim) = Simulation::with_barriers(&sys.discs, sys.sim_box, &sys.barriers, allow) {
+    if let Ok(mut sim) = build(allow) {
         sim.run_events(64, &mut ());
+        // A stepped potential's energy is a sum of its steps' energies over the pairs.
+        assert!(sim.potential_energy().is_finite());
     }
 }
 
