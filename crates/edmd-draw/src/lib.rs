@@ -4,8 +4,10 @@
 //! orthographic [`View`] from any direction, or as a slice.
 //!
 //! The viewer window and the offline renderer both call [`draw`], so they show the same
-//! picture: the box, every disc to scale in its colour (or coloured by speed or species), the
-//! internal barriers with their doors, and the trails of tagged discs. Drawing only reads a
+//! picture: the box, every disc to scale in its colour (or coloured by speed, species or
+//! potential energy), the bonds of a stepped potential's pairs (optional,
+//! [`Scene::with_bonds`]), the internal barriers with their doors, and the trails of tagged
+//! discs. Drawing only reads a
 //! [`Scene`], a snapshot built from a simulation ([`Scene::capture`]); rendering never lives in
 //! the engine.
 //!
@@ -61,7 +63,19 @@ pub enum Colouring {
     Speed,
     /// By species, from a fixed palette.
     Species,
+    /// By potential energy (stepped potentials): each disc's
+    /// [`Simulation::potential_energy_of`] on a diverging scale centred on zero, grey for a disc
+    /// in no pair's well or shoulder, blue for bound (negative), red for repelled (positive),
+    /// darkest at [`energy_scale`]. The scale comes from the potential alone, so a colour means
+    /// the same energy in every frame of a film. All grey without a stepped potential.
+    Energy,
 }
+
+/// Colour of the bonds between the discs of a pair inside a well or shoulder (drawn
+/// semi-transparent, with [`BOND_ALPHA`]).
+pub const BOND: [u8; 3] = [230, 110, 20];
+/// Opacity of bonds, 0 to 255.
+pub const BOND_ALPHA: u8 = 200;
 
 /// Background colour of the box.
 pub const BACKGROUND: [u8; 3] = [255, 255, 255];
@@ -98,6 +112,9 @@ pub struct Scene {
     pub trails: Vec<Vec<Vector>>,
     /// Discs to outline (tagged).
     pub highlighted: Vec<usize>,
+    /// Pairs of discs (indices into `positions`) joined by a bond: a line between their
+    /// centres, towards the nearest periodic image (see [`Scene::with_bonds`]).
+    pub bonds: Vec<[usize; 2]>,
 }
 
 impl Scene {
@@ -105,16 +122,7 @@ impl Scene {
     /// projection on the xy plane; [`Scene3`] draws spheres properly).
     pub fn capture<const D: usize>(sim: &Simulation<D>, colouring: Colouring) -> Self {
         let n = sim.len();
-        let rms = ((0..n).map(|i| sim.velocity(i).norm2()).sum::<f64>() / n.max(1) as f64).sqrt();
-        let colours = (0..n)
-            .map(|i| match colouring {
-                Colouring::File => sim.colour(i),
-                Colouring::Species => PALETTE[sim.species(i) as usize % PALETTE.len()],
-                Colouring::Speed => speed_colour(
-                    sim.velocity(i).norm2().sqrt() / (2.0 * rms).max(f64::MIN_POSITIVE),
-                ),
-            })
-            .collect();
+        let colours = colours(sim, colouring);
         let b = sim.sim_box();
         Scene {
             lengths: [b.lengths[0], b.lengths[1]],
@@ -130,7 +138,86 @@ impl Scene {
             barriers: sim.barriers().to_vec(),
             trails: Vec::new(),
             highlighted: Vec::new(),
+            bonds: Vec::new(),
         }
+    }
+
+    /// The scene with a bond for every pair of `sim` inside at least one step of its stepped
+    /// potential ([`bonds`]; none for hard discs). `sim` must be the simulation captured.
+    pub fn with_bonds<const D: usize>(mut self, sim: &Simulation<D>) -> Self {
+        self.bonds = bonds(sim);
+        self
+    }
+}
+
+/// The pairs of discs inside at least one step of `sim`'s stepped potential (a well or a
+/// shoulder), each once, `[i, j]` with `i < j`; empty for hard discs.
+pub fn bonds<const D: usize>(sim: &Simulation<D>) -> Vec<[usize; 2]> {
+    if !sim.is_stepped() {
+        return Vec::new();
+    }
+    let mut out = Vec::new();
+    for i in 0..sim.len() {
+        for (j, _) in sim.partners_of(i) {
+            if j > i {
+                out.push([i, j]);
+            }
+        }
+    }
+    out
+}
+
+/// The colour of every disc of `sim` for `colouring`.
+pub(crate) fn colours<const D: usize>(sim: &Simulation<D>, colouring: Colouring) -> Vec<[u8; 3]> {
+    let n = sim.len();
+    match colouring {
+        Colouring::File => (0..n).map(|i| sim.colour(i)).collect(),
+        Colouring::Species => (0..n)
+            .map(|i| PALETTE[sim.species(i) as usize % PALETTE.len()])
+            .collect(),
+        Colouring::Speed => {
+            let rms =
+                ((0..n).map(|i| sim.velocity(i).norm2()).sum::<f64>() / n.max(1) as f64).sqrt();
+            (0..n)
+                .map(|i| {
+                    speed_colour(
+                        sim.velocity(i).norm2().sqrt() / (2.0 * rms).max(f64::MIN_POSITIVE),
+                    )
+                })
+                .collect()
+        }
+        Colouring::Energy => {
+            let scale = energy_scale(sim);
+            (0..n)
+                .map(|i| energy_colour(sim.potential_energy_of(i) / scale))
+                .collect()
+        }
+    }
+}
+
+/// The potential energy of one disc at which [`Colouring::Energy`] reaches its darkest
+/// colours: the largest magnitude a pair's energy can have (over the shells of every pair of
+/// species of the potential) times 6 in 2D or 12 in 3D, the neighbours of a disc in a close
+/// packing. A square-well disc with six partners in 2D (twelve in 3D) is the darkest blue.
+/// 1 without a stepped potential (every energy is 0 then).
+pub fn energy_scale<const D: usize>(sim: &Simulation<D>) -> f64 {
+    let Some(potential) = sim.potential() else {
+        return 1.0;
+    };
+    // A pair inside the outermost k steps has the sum of their energies.
+    let mut most: f64 = 0.0;
+    for pair in &potential.pairs {
+        let mut u = 0.0;
+        for step in pair.steps.iter().rev() {
+            u += step.energy;
+            most = most.max(u.abs());
+        }
+    }
+    let neighbours = if D == 3 { 12.0 } else { 6.0 };
+    if most > 0.0 && most.is_finite() {
+        most * neighbours
+    } else {
+        1.0
     }
 }
 
@@ -151,14 +238,49 @@ const SPEED_STOPS: [[f64; 3]; 10] = [
 ];
 
 /// The speed colour for `x` from 0 (slow, dark purple) to 1 (fast, yellow-green), clamped: the
-/// viridis colormap up to 0.9 (see [`SPEED_STOPS`]). The old blue-white-red scale drew
+/// viridis colormap up to 0.9 (see `SPEED_STOPS`). The old blue-white-red scale drew
 /// mid-speed discs nearly white, invisible on the white background.
 pub fn speed_colour(x: f64) -> [u8; 3] {
     let x = if x.is_nan() { 0.0 } else { x.clamp(0.0, 1.0) };
-    let f = x * (SPEED_STOPS.len() - 1) as f64;
-    let k = (f.floor() as usize).min(SPEED_STOPS.len() - 2);
+    ramp(&SPEED_STOPS, x)
+}
+
+/// The diverging potential-energy scale: from the bound end (`x = -1`, dark blue) through
+/// grey (`x = 0`, a disc in no pair's step) to the repelled end (`x = 1`, dark red), clamped.
+/// The grey and the palest tints stay visible on the white background.
+const ENERGY_NEGATIVE: [[f64; 3]; 5] = [
+    [165.0, 165.0, 170.0],
+    [115.0, 155.0, 205.0],
+    [55.0, 115.0, 190.0],
+    [30.0, 70.0, 155.0],
+    [15.0, 30.0, 100.0],
+];
+const ENERGY_POSITIVE: [[f64; 3]; 5] = [
+    [165.0, 165.0, 170.0],
+    [225.0, 145.0, 115.0],
+    [210.0, 75.0, 55.0],
+    [165.0, 25.0, 35.0],
+    [100.0, 0.0, 25.0],
+];
+
+/// The energy colour for `x` from -1 (most bound, dark blue) through 0 (grey) to 1 (most
+/// repelled, dark red), clamped; `x` is a disc's potential energy over [`energy_scale`].
+pub fn energy_colour(x: f64) -> [u8; 3] {
+    let x = if x.is_nan() { 0.0 } else { x.clamp(-1.0, 1.0) };
+    let stops = if x < 0.0 {
+        &ENERGY_NEGATIVE
+    } else {
+        &ENERGY_POSITIVE
+    };
+    ramp(stops, x.abs())
+}
+
+/// Linear interpolation along equally spaced colour stops, `x` in `[0, 1]`.
+fn ramp(stops: &[[f64; 3]], x: f64) -> [u8; 3] {
+    let f = x * (stops.len() - 1) as f64;
+    let k = (f.floor() as usize).min(stops.len() - 2);
     let t = f - k as f64;
-    let (a, b) = (SPEED_STOPS[k], SPEED_STOPS[k + 1]);
+    let (a, b) = (stops[k], stops[k + 1]);
     let lerp = |c: usize| (a[c] + (b[c] - a[c]) * t).round() as u8;
     [lerp(0), lerp(1), lerp(2)]
 }
@@ -236,6 +358,7 @@ pub fn draw_into(scene: &Scene, pm: &mut Pixmap) {
             fill_disc(pm, cx as f64, cy as f64, rp, colour);
         }
     }
+    draw_bonds(scene, &vp, pm);
     // Trails and highlighted discs.
     for trail in &scene.trails {
         let mut pb = PathBuilder::new();
@@ -352,6 +475,138 @@ pub fn draw_into(scene: &Scene, pm: &mut Pixmap) {
             pm.stroke_path(&path, &paint(colour), &stroke, Transform::identity(), None);
         }
     }
+}
+
+/// Draws the bonds of `scene` over its discs: thin, semi-transparent, from centre to centre.
+/// A bond across a periodic edge is drawn as two halves, from each disc towards its partner's
+/// nearest image, each cut at the edge of the box.
+fn draw_bonds(scene: &Scene, vp: &Viewport, pm: &mut Pixmap) {
+    if scene.bonds.is_empty() {
+        return;
+    }
+    let mut pieces = Vec::new();
+    for &[i, j] in &scene.bonds {
+        let (Some(p), Some(q)) = (scene.positions.get(i), scene.positions.get(j)) else {
+            continue;
+        };
+        bond_pieces(
+            p.0,
+            q.0,
+            [0.0, 0.0],
+            scene.lengths,
+            scene.periodic,
+            &mut pieces,
+        );
+    }
+    let mut pb = PathBuilder::new();
+    for (a, b) in pieces {
+        let (ax, ay) = vp.to_pixel(Vector::new(a));
+        let (bx, by) = vp.to_pixel(Vector::new(b));
+        pb.move_to(ax, ay);
+        pb.line_to(bx, by);
+    }
+    let mean_r = scene.radii.iter().sum::<f64>() / scene.radii.len().max(1) as f64;
+    stroke_bonds(pb, bond_width(mean_r * vp.scale), pm);
+}
+
+/// Width in pixels of the bonds between discs of radius `r` pixels.
+pub(crate) fn bond_width(r: f64) -> f32 {
+    (0.3 * r).clamp(1.0, 4.0) as f32
+}
+
+/// Strokes the segments of `pb` as bonds (one path: where bonds cross, the colour is not laid
+/// twice).
+pub(crate) fn stroke_bonds(pb: PathBuilder, width: f32, pm: &mut Pixmap) {
+    if let Some(path) = pb.finish() {
+        // A faint light edge under the line keeps it apart from discs of a like colour.
+        for (rgb, alpha, w) in [
+            ([255, 255, 255], 90, width + 1.2),
+            (BOND, BOND_ALPHA, width),
+        ] {
+            let mut paint = paint(rgb);
+            paint.set_color_rgba8(rgb[0], rgb[1], rgb[2], alpha);
+            let stroke = Stroke {
+                width: w,
+                line_cap: tiny_skia::LineCap::Round,
+                ..Stroke::default()
+            };
+            pm.stroke_path(&path, &paint, &stroke, Transform::identity(), None);
+        }
+    }
+}
+
+/// The segments to draw for a bond between centres `p` and `q` in a box of edge `lengths`,
+/// trimmed by `trim[0]` at `p`'s end and `trim[1]` at `q`'s (the radii, to start the bond at
+/// the surfaces; 0 for centre to centre). The bond runs from `p` towards `q`'s nearest image;
+/// when that image lies across a periodic face, the bond is drawn twice, from `p` and from `q`
+/// towards each other's image, each cut at the box's faces.
+pub(crate) fn bond_pieces<const N: usize>(
+    p: [f64; N],
+    q: [f64; N],
+    trim: [f64; 2],
+    lengths: [f64; N],
+    periodic: [bool; N],
+    out: &mut Vec<([f64; N], [f64; N])>,
+) {
+    let mut d: [f64; N] = std::array::from_fn(|a| q[a] - p[a]);
+    let mut wrapped = false;
+    for a in 0..N {
+        if periodic[a] && lengths[a] > 0.0 {
+            let k = (d[a] / lengths[a]).round();
+            if k != 0.0 {
+                d[a] -= k * lengths[a];
+                wrapped = true;
+            }
+        }
+    }
+    let dist = d.iter().map(|c| c * c).sum::<f64>().sqrt();
+    if dist.is_nan() || dist <= trim[0] + trim[1] {
+        return;
+    }
+    let u: [f64; N] = std::array::from_fn(|a| d[a] / dist);
+    let from: [f64; N] = std::array::from_fn(|a| p[a] + trim[0] * u[a]);
+    let to: [f64; N] = std::array::from_fn(|a| p[a] + d[a] - trim[1] * u[a]);
+    if !wrapped {
+        out.push((from, to));
+        return;
+    }
+    // The same bond seen from `q`: shifted by the periodic translation between `q` and the
+    // image of it that `p` is bonded to.
+    let back = |v: [f64; N]| -> [f64; N] { std::array::from_fn(|a| v[a] + q[a] - p[a] - d[a]) };
+    for (a, b) in [(from, to), (back(from), back(to))] {
+        if let Some(piece) = clip_to_box(a, b, lengths) {
+            out.push(piece);
+        }
+    }
+}
+
+/// The part of the segment from `a` to `b` inside the box `[0, L]` on every axis, if any
+/// (Liang and Barsky's clipping).
+fn clip_to_box<const N: usize>(
+    a: [f64; N],
+    b: [f64; N],
+    lengths: [f64; N],
+) -> Option<([f64; N], [f64; N])> {
+    let (mut t0, mut t1) = (0.0f64, 1.0f64);
+    for k in 0..N {
+        let d = b[k] - a[k];
+        // The segment is inside where p t <= q for each side.
+        for (p, q) in [(-d, a[k]), (d, lengths[k] - a[k])] {
+            if p == 0.0 {
+                if q < 0.0 {
+                    return None;
+                }
+            } else if p < 0.0 {
+                t0 = t0.max(q / p);
+            } else {
+                t1 = t1.min(q / p);
+            }
+        }
+    }
+    let at = |t: f64| -> [f64; N] {
+        std::array::from_fn(|k| (a[k] + (b[k] - a[k]) * t).clamp(0.0, lengths[k]))
+    };
+    (t0 < t1).then(|| (at(t0), at(t1)))
 }
 
 /// Fills a disc of radius `r` pixels centred at `(cx, cy)` (pixel `(x, y)` covers
@@ -520,6 +775,153 @@ mod tests {
             assert!(luma < 215.0, "speed {k}%: ({r}, {g}, {b}) is too light");
         }
         assert_ne!(speed_colour(0.0), speed_colour(1.0));
+    }
+
+    /// A periodic box 10 x 10 (in 208 x 208 pixels: 20 pixels per unit) with a square well
+    /// out to 1.5 between discs of radius 0.5: `discs` are `(x, y)`.
+    fn well(discs: &[[f64; 2]]) -> Simulation {
+        let discs: Vec<Disc> = discs
+            .iter()
+            .map(|&p| Disc::new(Vector::new(p), Vector::ZERO, 0.5))
+            .collect();
+        let potential = edmd_core::Potential::single(0, 0, 1.5, -1.0);
+        Simulation::with_potential_at(
+            &discs,
+            SimBox::periodic([10.0, 10.0]),
+            &[],
+            &potential,
+            Options::default(),
+            0.0,
+        )
+        .unwrap()
+    }
+
+    fn is_bond(c: [u8; 3]) -> bool {
+        c[0] > 180 && c[1] > 80 && c[1] < 160 && c[2] < 100
+    }
+
+    #[test]
+    fn energy_colours_are_grey_at_zero_and_visible_on_white() {
+        assert_eq!(energy_colour(0.0), [165, 165, 170]);
+        assert_eq!(energy_colour(f64::NAN), energy_colour(0.0));
+        let (bound, repelled) = (energy_colour(-1.0), energy_colour(1.0));
+        assert!(bound[2] > bound[0] + 50, "{bound:?} is not blue");
+        assert!(repelled[0] > repelled[2] + 50, "{repelled:?} is not red");
+        assert_eq!(energy_colour(-5.0), bound);
+        for k in -100..=100 {
+            let [r, g, b] = energy_colour(k as f64 / 100.0);
+            let luma = 0.2126 * r as f64 + 0.7152 * g as f64 + 0.0722 * b as f64;
+            assert!(luma < 215.0, "energy {k}%: ({r}, {g}, {b}) is too light");
+        }
+    }
+
+    #[test]
+    fn energy_colouring_follows_each_discs_pairs() {
+        // 0 and 1 are 1.2 apart (inside the well), 1 and 2 too; 3 is alone.
+        let sim = well(&[[2.0, 5.0], [3.2, 5.0], [4.4, 5.0], [8.0, 8.0]]);
+        assert_eq!(energy_scale(&sim), 6.0);
+        let s = Scene::capture(&sim, Colouring::Energy);
+        assert_eq!(
+            s.colours,
+            vec![
+                energy_colour(-1.0 / 6.0),
+                energy_colour(-2.0 / 6.0),
+                energy_colour(-1.0 / 6.0),
+                energy_colour(0.0)
+            ]
+        );
+        assert_eq!(bonds(&sim), vec![[0, 1], [1, 2]]);
+        assert!(s.bonds.is_empty());
+        assert_eq!(s.with_bonds(&sim).bonds, vec![[0, 1], [1, 2]]);
+        // Hard discs: no bonds, every disc grey.
+        let hard = Simulation::new(
+            &[Disc::new(Vector::new([0.5, 0.5]), Vector::ZERO, 0.1)],
+            SimBox::unit(),
+            Options::default(),
+        )
+        .unwrap();
+        assert_eq!(energy_scale(&hard), 1.0);
+        let s = Scene::capture(&hard, Colouring::Energy).with_bonds(&hard);
+        assert!(s.bonds.is_empty());
+        assert_eq!(s.colours, vec![energy_colour(0.0)]);
+    }
+
+    #[test]
+    fn a_bond_is_drawn_between_the_discs() {
+        let sim = well(&[[3.0, 5.0], [4.4, 5.0]]);
+        let plain = draw(&Scene::capture(&sim, Colouring::File), 208, 208);
+        let bonded = draw(
+            &Scene::capture(&sim, Colouring::File).with_bonds(&sim),
+            208,
+            208,
+        );
+        // The gap between the surfaces, x from 3.5 to 3.9 (pixels 74 to 82) at y = 5 (104).
+        assert_eq!(rgb_at(&plain, 78, 104), BACKGROUND);
+        assert!(
+            is_bond(rgb_at(&bonded, 78, 104)),
+            "{:?}",
+            rgb_at(&bonded, 78, 104)
+        );
+        // Thin: a few pixels above the line is background.
+        assert_eq!(rgb_at(&bonded, 78, 109), BACKGROUND);
+        // Nowhere else.
+        assert_eq!(rgb_at(&bonded, 150, 104), BACKGROUND);
+    }
+
+    #[test]
+    fn a_bond_across_a_periodic_edge_is_two_halves_at_the_edges() {
+        // 0.3 and 9.5 are 0.8 apart across x = 0.
+        let sim = well(&[[0.6, 5.0], [9.4, 5.0]]);
+        let mut pieces = Vec::new();
+        bond_pieces(
+            [0.6, 5.0],
+            [9.4, 5.0],
+            [0.0, 0.0],
+            [10.0, 10.0],
+            [true, true],
+            &mut pieces,
+        );
+        assert_eq!(
+            pieces,
+            vec![([0.6, 5.0], [0.0, 5.0]), ([10.0, 5.0], [9.4, 5.0])]
+        );
+        let pm = draw(
+            &Scene::capture(&sim, Colouring::File).with_bonds(&sim),
+            208,
+            208,
+        );
+        // Inside the box next to both edges, between the disc and the edge: bond; across the
+        // middle of the box: nothing.
+        for x in [5, 202] {
+            assert!(
+                is_bond(rgb_at(&pm, x, 104)),
+                "x = {x}: {:?}",
+                rgb_at(&pm, x, 104)
+            );
+        }
+        for x in [40, 104, 170] {
+            assert_eq!(rgb_at(&pm, x, 104), BACKGROUND, "x = {x}");
+        }
+        // Not across a wall: one piece, the segment itself.
+        let mut pieces = Vec::new();
+        bond_pieces(
+            [0.6, 5.0],
+            [1.4, 5.5],
+            [0.0, 0.0],
+            [10.0, 10.0],
+            [false, false],
+            &mut pieces,
+        );
+        assert_eq!(pieces, vec![([0.6, 5.0], [1.4, 5.5])]);
+    }
+
+    #[test]
+    fn clipping_keeps_the_part_inside_the_box() {
+        let c = clip_to_box([-1.0, 1.0], [1.0, 1.0], [2.0, 2.0]).unwrap();
+        assert_eq!(c, ([0.0, 1.0], [1.0, 1.0]));
+        assert!(clip_to_box([-1.0, 1.0], [-0.5, 1.0], [2.0, 2.0]).is_none());
+        let c = clip_to_box([1.0, 1.0, 1.0], [3.0, 1.0, 3.0], [2.0, 2.0, 2.0]).unwrap();
+        assert_eq!(c, ([1.0, 1.0, 1.0], [2.0, 1.0, 2.0]));
     }
 
     #[test]

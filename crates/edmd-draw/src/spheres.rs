@@ -13,7 +13,9 @@
 use edmd_core::{Simulation, Vector};
 use tiny_skia::{Color, PathBuilder, Pixmap, Stroke, Transform};
 
-use crate::{paint, speed_colour, Colouring, Scene, OUTSIDE, PALETTE, WALL};
+use crate::{
+    bond_pieces, bond_width, colours, paint, stroke_bonds, Colouring, Scene, OUTSIDE, WALL,
+};
 
 /// A snapshot of a 3D system.
 #[derive(Clone, Debug, Default)]
@@ -28,6 +30,9 @@ pub struct Scene3 {
     pub radii: Vec<f64>,
     /// Sphere colours.
     pub colours: Vec<[u8; 3]>,
+    /// Pairs of spheres (indices into `positions`) joined by a bond (see
+    /// [`Scene3::with_bonds`]).
+    pub bonds: Vec<[usize; 2]>,
 }
 
 impl Scene3 {
@@ -35,16 +40,7 @@ impl Scene3 {
     /// simulation lies in the plane `z = 0` of a box of depth 0.
     pub fn capture<const D: usize>(sim: &Simulation<D>, colouring: Colouring) -> Self {
         let n = sim.len();
-        let rms = ((0..n).map(|i| sim.velocity(i).norm2()).sum::<f64>() / n.max(1) as f64).sqrt();
-        let colours = (0..n)
-            .map(|i| match colouring {
-                Colouring::File => sim.colour(i),
-                Colouring::Species => PALETTE[sim.species(i) as usize % PALETTE.len()],
-                Colouring::Speed => speed_colour(
-                    sim.velocity(i).norm2().sqrt() / (2.0 * rms).max(f64::MIN_POSITIVE),
-                ),
-            })
-            .collect();
+        let colours = colours(sim, colouring);
         let b = sim.sim_box();
         let pick = |v: &[f64], a: usize| if a < D { v[a] } else { 0.0 };
         Scene3 {
@@ -58,7 +54,17 @@ impl Scene3 {
                 .collect(),
             radii: (0..n).map(|i| sim.radius(i)).collect(),
             colours,
+            bonds: Vec::new(),
         }
+    }
+
+    /// The scene with a bond for every pair of `sim` inside at least one step of its stepped
+    /// potential ([`crate::bonds`]). In an orbit view a bond is a line between the spheres'
+    /// surfaces, drawn in depth order with them; in a slice, a line between the centres of
+    /// two circles cut from bonded spheres.
+    pub fn with_bonds<const D: usize>(mut self, sim: &Simulation<D>) -> Self {
+        self.bonds = crate::bonds(sim);
+        self
     }
 }
 
@@ -168,7 +174,8 @@ pub fn draw3_into(scene: &Scene3, view: View, pm: &mut Pixmap) {
 
 /// The 2D scene of the circles where the plane perpendicular to `axis` at `position` cuts the
 /// spheres, in the plane's coordinates (the other two axes, in order). Periodic images of
-/// spheres that reach across a periodic face are cut too.
+/// spheres that reach across a periodic face are cut too. Two circles cut from bonded spheres
+/// (the same periodic images of them) are bonded.
 pub fn slice(scene: &Scene3, axis: usize, position: f64) -> Scene {
     let axis = axis.min(2);
     let others: [usize; 2] = match axis {
@@ -182,6 +189,8 @@ pub fn slice(scene: &Scene3, axis: usize, position: f64) -> Scene {
         periodic: others.map(|a| scene.periodic[a]),
         ..Scene::default()
     };
+    // The circles cut from each sphere: (index in the slice, where the image is on the axis).
+    let mut cut: Vec<Vec<(usize, f64)>> = vec![Vec::new(); scene.positions.len()];
     for (i, p) in scene.positions.iter().enumerate() {
         let r = scene.radii[i];
         let shifts: &[f64] = if scene.periodic[axis] {
@@ -192,11 +201,26 @@ pub fn slice(scene: &Scene3, axis: usize, position: f64) -> Scene {
         for s in shifts {
             let d = p[axis] + s - position;
             if d.abs() < r {
+                cut[i].push((out.positions.len(), p[axis] + s));
                 out.positions
                     .push(Vector::new([p[others[0]], p[others[1]]]));
                 out.radii.push((r * r - d * d).sqrt());
                 out.colours
                     .push(scene.colours.get(i).copied().unwrap_or([0, 0, 0]));
+            }
+        }
+    }
+    for &[i, j] in &scene.bonds {
+        let (Some(ci), Some(cj)) = (cut.get(i), cut.get(j)) else {
+            continue;
+        };
+        for &(a, za) in ci {
+            for &(b, zb) in cj {
+                // Both images the plane cuts lie within a radius of it, so within one bond of
+                // each other exactly when they are the pair's nearest images.
+                if !scene.periodic[axis] || (zb - za).abs() <= 0.5 * l {
+                    out.bonds.push([a, b]);
+                }
             }
         }
     }
@@ -268,18 +292,47 @@ fn draw_orbit(scene: &Scene3, azimuth: f64, elevation: f64, pm: &mut Pixmap) {
             None,
         );
     }
-    // Spheres, far to near.
-    let mut order: Vec<(f64, usize)> = scene
+    // Spheres and bonds, far to near. A bond runs between the two spheres' surfaces (halves
+    // cut at the box's faces when it crosses a periodic one), at the depth of its middle;
+    // consecutive bonds are stroked as one path.
+    let mut pieces = Vec::new();
+    for &[i, j] in &scene.bonds {
+        if let (Some(&p), Some(&q)) = (scene.positions.get(i), scene.positions.get(j)) {
+            let trim = [scene.radii[i], scene.radii[j]];
+            bond_pieces(p, q, trim, scene.lengths, scene.periodic, &mut pieces);
+        }
+    }
+    let mut order: Vec<(f64, Item)> = scene
         .positions
         .iter()
         .enumerate()
-        .map(|(i, &p)| (cam.project(p).2, i))
+        .map(|(i, &p)| (cam.project(p).2, Item::Sphere(i)))
         .collect();
+    for (k, (a, b)) in pieces.iter().enumerate() {
+        let mid = std::array::from_fn(|c| 0.5 * (a[c] + b[c]));
+        order.push((cam.project(mid).2, Item::Bond(k)));
+    }
     order.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let mean_r = scene.radii.iter().sum::<f64>() / scene.radii.len().max(1) as f64;
+    let width = bond_width(0.7 * mean_r * scale);
+    let mut bonds = PathBuilder::new();
     // One sprite per size (radii quantised to 1/16 pixel): a fluid of equal spheres shades
     // one sprite and copies it.
     let mut sprites: std::collections::HashMap<i64, Sprite> = std::collections::HashMap::new();
-    for (_, i) in order {
+    for (_, item) in order {
+        let i = match item {
+            Item::Bond(k) => {
+                let (a, b) = pieces[k];
+                let (xa, ya, _) = cam.project(a);
+                let (xb, yb, _) = cam.project(b);
+                let (pa, pb) = (to_pixel(xa, ya), to_pixel(xb, yb));
+                bonds.move_to(pa.0 as f32, pa.1 as f32);
+                bonds.line_to(pb.0 as f32, pb.1 as f32);
+                continue;
+            }
+            Item::Sphere(i) => i,
+        };
+        stroke_bonds(std::mem::take(&mut bonds), width, pm);
         let (x, y, _) = cam.project(scene.positions[i]);
         let (px, py) = to_pixel(x, y);
         let colour = scene.colours.get(i).copied().unwrap_or([0, 0, 0]);
@@ -290,6 +343,7 @@ fn draw_orbit(scene: &Scene3, azimuth: f64, elevation: f64, pm: &mut Pixmap) {
             .or_insert_with(|| Sprite::new(key as f64 / 16.0))
             .blit(pm, px, py, colour);
     }
+    stroke_bonds(bonds, width, pm);
     if let Some(path) = visible.finish() {
         let periodic = scene.periodic.iter().all(|&p| p);
         let stroke = Stroke {
@@ -298,6 +352,15 @@ fn draw_orbit(scene: &Scene3, azimuth: f64, elevation: f64, pm: &mut Pixmap) {
         };
         pm.stroke_path(&path, &paint(WALL), &stroke, Transform::identity(), None);
     }
+}
+
+/// What the orbit view draws, in depth order.
+#[derive(Clone, Copy, Debug)]
+enum Item {
+    /// Sphere `i`.
+    Sphere(usize),
+    /// Piece `k` of the bonds.
+    Bond(usize),
 }
 
 /// Light direction in screen coordinates (x right, y down, z towards the viewer): above, to
@@ -401,6 +464,7 @@ mod tests {
             positions: spheres.iter().map(|s| s.0).collect(),
             radii: spheres.iter().map(|s| s.1).collect(),
             colours: spheres.iter().map(|s| s.2).collect(),
+            bonds: Vec::new(),
         }
     }
 
@@ -481,6 +545,62 @@ mod tests {
                 .count();
             assert!(dark > 100, "({az}, {el}): only {dark} dark pixels");
         }
+    }
+
+    #[test]
+    fn a_bond_joins_the_surfaces_and_hides_behind_nearer_spheres() {
+        // Seen from +z (from above): two spheres bonded along x with a gap between them.
+        let view = View::Orbit {
+            azimuth: 0.0,
+            elevation: 90.0,
+        };
+        let mut sc = scene(&[([4.0, 5.0, 5.0], 0.5, BLUE), ([6.0, 5.0, 5.0], 0.5, BLUE)]);
+        let plain = draw3(&sc, view, 201, 201);
+        sc.bonds = vec![[0, 1]];
+        let bonded = draw3(&sc, view, 201, 201);
+        let c = rgb_at(&bonded, 100, 100);
+        assert_ne!(c, rgb_at(&plain, 100, 100));
+        assert!(
+            c[0] > 180 && c[2] < 120,
+            "{c:?}: no bond between the spheres"
+        );
+        // A sphere above the gap (nearer the viewer) hides the bond.
+        sc.positions.push([5.0, 5.0, 8.0]);
+        sc.radii.push(0.6);
+        sc.colours.push(RED);
+        let hidden = draw3(&sc, view, 201, 201);
+        let c = rgb_at(&hidden, 100, 100);
+        assert!(
+            c[0] > c[1] + 50 && c[0] > c[2] + 50,
+            "{c:?}: the bond shows through"
+        );
+        // Below the gap (farther away) it does not.
+        sc.positions[2] = [5.0, 5.0, 2.0];
+        let over = draw3(&sc, view, 201, 201);
+        let c = rgb_at(&over, 100, 100);
+        assert!(
+            c[0] > 180 && c[1] > 80 && c[2] < 120,
+            "{c:?}: the bond is hidden"
+        );
+    }
+
+    #[test]
+    fn a_slice_keeps_the_bonds_of_the_spheres_it_cuts() {
+        let mut sc = scene(&[
+            ([5.0, 5.0, 5.0], 1.0, RED),
+            ([6.5, 5.0, 5.2], 1.0, BLUE),
+            ([5.0, 6.5, 7.5], 1.0, BLUE), // not cut
+        ]);
+        sc.bonds = vec![[0, 1], [0, 2]];
+        assert_eq!(slice(&sc, 2, 5.0).bonds, vec![[0, 1]]);
+        // Across a periodic face the plane cuts both images of a sphere at z = 0.1 near the
+        // plane z = 0.05 only once each; its partner at z = 9.9 is joined to it.
+        let mut p = scene(&[([5.0, 5.0, 0.1], 0.5, RED), ([5.8, 5.0, 9.9], 0.5, BLUE)]);
+        p.periodic = [true; 3];
+        p.bonds = vec![[0, 1]];
+        let s = slice(&p, 2, 0.05);
+        assert_eq!(s.positions.len(), 2);
+        assert_eq!(s.bonds, vec![[0, 1]]);
     }
 
     #[test]

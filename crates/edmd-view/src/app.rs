@@ -228,11 +228,17 @@ impl<const D: usize> ViewerApp<D> {
             self.model.reverse();
         }
         if c {
+            let stepped = self.model.sim.is_stepped();
             self.model.colouring = match self.model.colouring {
                 Colouring::File => Colouring::Speed,
                 Colouring::Speed => Colouring::Species,
-                Colouring::Species => Colouring::File,
+                Colouring::Species if stepped => Colouring::Energy,
+                Colouring::Species | Colouring::Energy => Colouring::File,
             };
+            self.redraw = true;
+        }
+        if ctx.input(|i| i.key_pressed(Key::B)) && self.model.sim.is_stepped() {
+            self.model.bonds = !self.model.bonds;
             self.redraw = true;
         }
     }
@@ -396,7 +402,7 @@ impl<const D: usize> ViewerApp<D> {
             );
             ui.separator();
             ui.label("colour");
-            let before = self.model.colouring;
+            let before = (self.model.colouring, self.model.bonds);
             for (c, name) in [
                 (Colouring::File, "file"),
                 (Colouring::Speed, "speed"),
@@ -404,7 +410,20 @@ impl<const D: usize> ViewerApp<D> {
             ] {
                 ui.selectable_value(&mut self.model.colouring, c, name);
             }
-            if self.model.colouring != before {
+            // A stepped potential's own views: the energy of each disc's pairs, and the pairs
+            // inside a well or shoulder as bonds.
+            if self.model.sim.is_stepped() {
+                ui.selectable_value(&mut self.model.colouring, Colouring::Energy, "energy")
+                    .on_hover_text(
+                        "potential energy of each disc's pairs: blue bound, grey free, red repelled",
+                    );
+                ui.separator();
+                ui.checkbox(&mut self.model.bonds, "bonds").on_hover_text(format!(
+                    "B: a line between the {} of each pair inside a well or shoulder",
+                    particles::<D>()
+                ));
+            }
+            if (self.model.colouring, self.model.bonds) != before {
                 self.redraw = true;
             }
             ui.separator();
@@ -425,7 +444,12 @@ impl<const D: usize> ViewerApp<D> {
 
     fn side_panel(&self, ui: &mut egui::Ui) {
         let stats = self.model.sim.stats();
-        let events = stats.disc_disc + stats.wall + stats.barrier + stats.cell_crossing;
+        let events = stats.disc_disc
+            + stats.wall
+            + stats.barrier
+            + stats.cell_crossing
+            + stats.step
+            + stats.thermostat;
         egui::Grid::new("counters")
             .num_columns(2)
             .striped(true)
@@ -452,6 +476,13 @@ impl<const D: usize> ViewerApp<D> {
                     format!("{:.0}", self.rates.collisions_per_second),
                 );
                 row("frames / s", format!("{:.1}", self.rates.fps));
+                if self.model.sim.is_stepped() {
+                    row("step events", stats.step.to_string());
+                    row(
+                        "potential energy",
+                        format!("{:.4}", self.model.sim.potential_energy()),
+                    );
+                }
                 row("tagged", format!("{:?}", self.model.trails().tagged()));
             });
         if !self.last_event.is_empty() {
@@ -460,10 +491,15 @@ impl<const D: usize> ViewerApp<D> {
         if let Some(stall) = self.model.stall_message() {
             ui.colored_label(egui::Color32::RED, stall);
         }
-        if D == 3 {
-            ui.small("Drag the picture to turn the view. Keys: space play/pause, right arrow one event, F one frame, R restart, V reverse, C colouring, arrows up/down tilt.");
+        let b = if self.model.sim.is_stepped() {
+            ", B bonds"
         } else {
-            ui.small("Click a disc to tag it and draw its path; click again to untag. Keys: space play/pause, right arrow one event, F one frame, R restart, V reverse, C colouring.");
+            ""
+        };
+        if D == 3 {
+            ui.small(format!("Drag the picture to turn the view. Keys: space play/pause, right arrow one event, F one frame, R restart, V reverse, C colouring{b}, arrows up/down tilt."));
+        } else {
+            ui.small(format!("Click a disc to tag it and draw its path; click again to untag. Keys: space play/pause, right arrow one event, F one frame, R restart, V reverse, C colouring{b}."));
         }
         ui.separator();
         let h = ((ui.available_height() - 3.0 * 24.0) / 3.0).clamp(80.0, 220.0);

@@ -20,6 +20,8 @@ pub enum ColourArg {
     Speed,
     /// By species.
     Species,
+    /// By potential energy (stepped potentials only): blue bound, grey free, red repelled.
+    Energy,
 }
 
 impl From<ColourArg> for Colouring {
@@ -28,6 +30,7 @@ impl From<ColourArg> for Colouring {
             ColourArg::File => Colouring::File,
             ColourArg::Speed => Colouring::Speed,
             ColourArg::Species => Colouring::Species,
+            ColourArg::Energy => Colouring::Energy,
         }
     }
 }
@@ -44,7 +47,7 @@ pub enum BoundaryArg {
 /// `edmd-view FILE` or `edmd-view --gen KIND`: watch hard discs collide, event by event.
 ///
 /// Keys: space play/pause, right arrow one event, R restart, V reverse velocities, C next
-/// colouring. Click a disc to tag it and draw its path.
+/// colouring, B bonds (stepped potentials). Click a disc to tag it and draw its path.
 #[derive(Debug, Parser)]
 #[command(name = "edmd-view", version)]
 pub struct ViewArgs {
@@ -73,6 +76,10 @@ pub struct ViewArgs {
     /// Disc colouring.
     #[arg(long, value_enum, default_value_t = ColourArg::File)]
     pub colour: ColourArg,
+    /// Stepped potentials: draw a bond between the discs of each pair inside a well or shoulder
+    /// (B toggles it in the window).
+    #[arg(long)]
+    pub bonds: bool,
     /// Simulated time per second of wall time (default: a disc of RMS speed crosses a
     /// twentieth of the box per second).
     #[arg(long, value_name = "S", allow_negative_numbers = true)]
@@ -151,6 +158,28 @@ impl ViewArgs {
             }
         }
         Ok(())
+    }
+
+    /// Refuses `--bonds` and `--colour energy` for a system without a stepped potential
+    /// (`stepped`: [`Simulation::is_stepped`]), as `edmd render` does.
+    pub fn check_potential(&self, stepped: bool) -> Result<()> {
+        if stepped {
+            return Ok(());
+        }
+        let option = if self.bonds {
+            "--bonds"
+        } else if self.colour == ColourArg::Energy {
+            "--colour energy"
+        } else {
+            return Ok(());
+        };
+        let what = match (&self.gen, self.file.as_deref()) {
+            (Some(kind), _) => format!("--gen {kind}"),
+            (None, file) => file.unwrap_or("-").to_string(),
+        };
+        user_error(format!(
+            "{what}: {option} needs a stepped potential (a well or shoulder, '# edmd potential'), and this system has hard discs only"
+        ))
     }
 
     /// The simulation to show, in the dimension of its file (generated systems are 2D).
@@ -292,6 +321,23 @@ mod tests {
             .unwrap_err()
             .to_string()
             .contains("unknown kind"));
+    }
+
+    #[test]
+    fn bonds_and_energy_colours_need_a_stepped_potential() {
+        let a = parse(&["--gen", "fluid", "--bonds"]).unwrap();
+        assert!(a.bonds);
+        let e = a.check_potential(false).unwrap_err().to_string();
+        assert!(e.contains("--bonds") && e.contains("hard discs"), "{e}");
+        a.check_potential(true).unwrap();
+        let a = parse(&["x.txt", "--colour", "energy"]).unwrap();
+        assert_eq!(Colouring::from(a.colour), Colouring::Energy);
+        let e = a.check_potential(false).unwrap_err().to_string();
+        assert!(e.starts_with("x.txt: --colour energy"), "{e}");
+        parse(&["--gen", "fluid"])
+            .unwrap()
+            .check_potential(false)
+            .unwrap();
     }
 
     #[test]

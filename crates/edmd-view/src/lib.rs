@@ -6,12 +6,13 @@
 //! shown as a texture in an eframe/egui window (OpenGL through glow).
 //!
 //! ```text
-//! edmd-view FILE [--colour file|speed|species] [--speed S]
+//! edmd-view FILE [--colour file|speed|species|energy] [--bonds] [--speed S]
 //! edmd-view --gen KIND [--n N --packing P --boundary B --kt KT --seed S]
 //! ```
 //!
 //! Controls: play/pause (space), one event (right arrow), restart (R), reverse velocities (V),
-//! colouring (C or the buttons), a logarithmic slider for the simulated time per second, and a
+//! colouring (C or the buttons), bonds between the discs of the pairs inside a well or shoulder
+//! of a stepped potential (B or the check box), a logarithmic slider for the simulated time per second, and a
 //! click on a disc to tag it and draw its path. The side panel plots the temperature and the
 //! pressure against time and the speed histogram against the Rayleigh law, with counters.
 //! A 3D file (`# edmd dim 3`) is shown as shaded spheres in an orthographic view that turns
@@ -64,9 +65,16 @@ pub fn main() -> ExitCode {
         );
         return ExitCode::from(2);
     }
+    let checked = |stepped: bool| args.check_potential(stepped);
     match args.simulation_any() {
-        Ok(args::AnySimulation::Two(sim)) => show(&args, sim),
-        Ok(args::AnySimulation::Three(sim)) => show(&args, sim),
+        Ok(args::AnySimulation::Two(sim)) => match checked(sim.is_stepped()) {
+            Ok(()) => show(&args, sim),
+            Err(e) => edmd::front::exit_with("edmd-view", Err(e)),
+        },
+        Ok(args::AnySimulation::Three(sim)) => match checked(sim.is_stepped()) {
+            Ok(()) => show(&args, sim),
+            Err(e) => edmd::front::exit_with("edmd-view", Err(e)),
+        },
         Err(e) => edmd::front::exit_with("edmd-view", Err(e)),
     }
 }
@@ -79,7 +87,8 @@ fn show<const D: usize>(args: &ViewArgs, sim: edmd_core::Simulation<D>) -> ExitC
         screenshot: args.screenshot.clone(),
         quit_after: args.quit_after,
     };
-    let model = Model::new(sim, args.colour.into());
+    let mut model = Model::new(sim, args.colour.into());
+    model.bonds = args.bonds;
     let report = Rc::new(RefCell::new(Report::default()));
     let options = eframe::NativeOptions {
         renderer: eframe::Renderer::Glow,

@@ -119,6 +119,9 @@ pub struct Model<const D: usize = 2> {
     pub colouring: Colouring,
     /// How a 3D system is looked at (unused in 2D).
     pub view: View,
+    /// Whether to draw the bonds of a stepped potential's pairs (see
+    /// [`edmd_draw::Scene::with_bonds`]; nothing to draw for hard discs).
+    pub bonds: bool,
     trails: Trails<D>,
     pressure: Pressure,
     temperature: Temperature,
@@ -135,6 +138,7 @@ impl<const D: usize> Model<D> {
             sim,
             colouring,
             view: View::default(),
+            bonds: false,
             trails: Trails::default(),
             temperature: Temperature::new(),
             pressure_series: Vec::new(),
@@ -238,12 +242,19 @@ impl<const D: usize> Model<D> {
     }
 
     /// What to draw now: discs with the trails of the tagged ones, or spheres in
-    /// [`Self::view`].
+    /// [`Self::view`], with their bonds if [`Self::bonds`] is set.
     pub fn scene(&self) -> AnyScene {
         if D == 3 {
-            return AnyScene::Solid(Scene3::capture(&self.sim, self.colouring), self.view);
+            let mut scene = Scene3::capture(&self.sim, self.colouring);
+            if self.bonds {
+                scene = scene.with_bonds(&self.sim);
+            }
+            return AnyScene::Solid(scene, self.view);
         }
         let mut scene = Scene::capture(&self.sim, self.colouring);
+        if self.bonds {
+            scene = scene.with_bonds(&self.sim);
+        }
         scene.trails = self
             .trails
             .paths()
@@ -393,6 +404,36 @@ mod tests {
             AnyScene::Flat(scene) => assert_eq!(scene.positions.len(), 2),
             AnyScene::Solid(..) => panic!("a 2D model drew spheres"),
         }
+    }
+
+    #[test]
+    fn bonds_are_drawn_when_asked_for_a_stepped_potential() {
+        // Three discs in a row 1.2 apart, in a well out to 1.5: two bonds.
+        let discs: Vec<Disc> = (0..3)
+            .map(|k| Disc::new(Vector::new([3.0 + 1.2 * k as f64, 5.0]), Vector::ZERO, 0.5))
+            .collect();
+        let potential = edmd_core::Potential::single(0, 0, 1.5, -1.0);
+        let sim = Simulation::with_potential_at(
+            &discs,
+            SimBox::periodic([10.0, 10.0]),
+            &[],
+            &potential,
+            Options::default(),
+            0.0,
+        )
+        .unwrap();
+        let mut m = Model::new(sim, Colouring::Energy);
+        let bonds = |m: &Model| match m.scene() {
+            AnyScene::Flat(s) => s.bonds,
+            AnyScene::Solid(..) => panic!("a 2D model drew spheres"),
+        };
+        assert!(bonds(&m).is_empty());
+        m.bonds = true;
+        assert_eq!(bonds(&m), vec![[0, 1], [1, 2]]);
+        // Hard discs have none.
+        let mut m = Model::new(pair(), Colouring::File);
+        m.bonds = true;
+        assert!(bonds(&m).is_empty());
     }
 
     #[test]

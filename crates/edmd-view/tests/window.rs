@@ -226,3 +226,65 @@ fn spheres_under_xvfb() {
         .collect();
     assert!(greys.len() > 60, "{} shades of grey", greys.len());
 }
+
+/// A square-well lattice with `--bonds --colour energy`: the screenshot shows the bonds (in
+/// their orange) and the bound discs (blue, each with four partners).
+#[test]
+fn bonds_and_energy_colours_under_xvfb() {
+    if !on_path("xvfb-run") {
+        if std::env::var_os("CI").is_some() {
+            panic!("xvfb-run is not installed, and CI is set: install xvfb and xauth");
+        }
+        use std::io::Write;
+        let _ = writeln!(
+            std::io::stderr(),
+            "SKIPPED bonds_and_energy_colours_under_xvfb: xvfb-run is not installed (apt-get install xvfb xauth)"
+        );
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let shot = dir.path().join("out.png");
+    // 20 x 20 discs of diameter 1, 1.25 apart in a periodic box: each pair of neighbours is
+    // inside the well (out to 1.5), diagonal ones (1.77 apart) are not. Slow velocities keep
+    // the lattice for the few seconds of the test.
+    let file = dir.path().join("lattice.txt");
+    let mut text =
+        "400\n# edmd box 25 25\n# edmd boundary periodic periodic\n# edmd potential 0 0 1.5 -1.0\n"
+            .to_string();
+    for k in 0..400 {
+        let (x, y) = (
+            0.625 + 1.25 * (k % 20) as f64,
+            0.625 + 1.25 * (k / 20) as f64,
+        );
+        let (vx, vy) = (0.01 * (k as f64).sin(), 0.01 * (k as f64 * 1.7).cos());
+        text += &format!("{x} {y} {vx} {vy} 0.5 1 0 0 0\n");
+    }
+    std::fs::write(&file, text).unwrap();
+    let out = run_with_timeout(
+        Command::new("xvfb-run")
+            .args(["-a", "-s", "-screen 0 1280x800x24", BIN])
+            .arg(&file)
+            .args(["--bonds", "--colour", "energy", "--quit-after", "3"])
+            .arg("--screenshot")
+            .arg(&shot)
+            .env_remove("WAYLAND_DISPLAY"),
+        Duration::from_secs(120),
+    );
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        out.status.success(),
+        "status {:?}; stderr: {stderr}",
+        out.status
+    );
+    let (_, _, pixels) = read_png(&shot);
+    let orange = pixels
+        .iter()
+        .filter(|p| p[0] > 180 && (80..170).contains(&p[1]) && p[2] < 110)
+        .count();
+    let blue = pixels
+        .iter()
+        .filter(|p| p[2] as i32 > p[0] as i32 + 60)
+        .count();
+    assert!(orange > 2_000, "bond pixels: {orange}");
+    assert!(blue > 20_000, "bound disc pixels: {blue}");
+}

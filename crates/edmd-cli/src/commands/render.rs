@@ -9,7 +9,9 @@
 //! installed), and a folder of numbered PNG files when `OUT` ends with `/` or has no extension
 //! and is a new or an empty folder. Anything else (`out.png`, a folder with files in it) is
 //! refused. Frames are written to a temporary file or folder and moved into place at the end,
-//! so an error or a signal leaves nothing behind.
+//! so an error or a signal leaves nothing behind. For a stepped potential (`# edmd potential`),
+//! `--bonds` draws the pairs inside a well or shoulder and `--colour energy` colours each disc
+//! by its potential energy; both are refused for hard discs.
 
 use std::io::{IsTerminal, Write};
 use std::path::{Path, PathBuf};
@@ -34,6 +36,8 @@ pub enum ColourArg {
     Speed,
     /// By species.
     Species,
+    /// By potential energy (stepped potentials only): blue bound, grey free, red repelled.
+    Energy,
 }
 
 /// Options of `edmd render`.
@@ -60,6 +64,9 @@ pub struct RenderArgs {
     /// Disc colouring.
     #[arg(long, value_enum, default_value_t = ColourArg::File)]
     pub colour: ColourArg,
+    /// Stepped potentials: draw a bond between the discs of each pair inside a well or shoulder.
+    #[arg(long)]
+    pub bonds: bool,
     /// Run files with overlapping discs (see `edmd run --allow-overlaps`).
     #[arg(long)]
     pub allow_overlaps: bool,
@@ -250,7 +257,9 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         ColourArg::File => Colouring::File,
         ColourArg::Speed => Colouring::Speed,
         ColourArg::Species => Colouring::Species,
+        ColourArg::Energy => Colouring::Energy,
     };
+    let bonds = args.bonds;
     match read_any(&args.file, None, Default::default(), None)? {
         edmd_io::AnyLoaded::Two(sys) => {
             if args.slice.is_some() || args.view.is_some() {
@@ -264,7 +273,8 @@ pub fn run(args: &RenderArgs) -> Result<()> {
                 ));
             }
             render_in(args, sys, kind, |sim, pm| {
-                draw_into(&Scene::capture(sim, colouring), pm)
+                let scene = Scene::capture(sim, colouring);
+                draw_into(&if bonds { scene.with_bonds(sim) } else { scene }, pm)
             })
         }
         edmd_io::AnyLoaded::Three(sys) => {
@@ -288,7 +298,9 @@ pub fn run(args: &RenderArgs) -> Result<()> {
                 None => View::Orbit { azimuth, elevation },
             };
             render_in(args, sys, kind, |sim, pm| {
-                draw3_into(&Scene3::capture(sim, colouring), view, pm)
+                let scene = Scene3::capture(sim, colouring);
+                let scene = if bonds { scene.with_bonds(sim) } else { scene };
+                draw3_into(&scene, view, pm)
             })
         }
     }
@@ -329,6 +341,21 @@ fn render_in<const D: usize>(
             ..Default::default()
         },
     )?;
+    if !sim.is_stepped() {
+        let asked = if args.bonds {
+            Some("--bonds")
+        } else if args.colour == ColourArg::Energy {
+            Some("--colour energy")
+        } else {
+            None
+        };
+        if let Some(option) = asked {
+            return user_error(format!(
+                "{}: {option} needs a stepped potential (a well or shoulder, '# edmd potential'), and this file has hard discs only",
+                args.file
+            ));
+        }
+    }
     if t0 != 0.0 {
         sim.start_at(t0)
             .or_else(|e| user_error(format!("{}: {e}", args.file)))?;
