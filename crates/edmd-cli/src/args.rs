@@ -180,6 +180,12 @@ pub struct BenchArgs {
     /// Time the portable event loop even where the processor runs the x86-64-v3 one.
     #[arg(long)]
     pub portable: bool,
+    /// A square-well fluid: a well of depth 1 out to LAMBDA diameters (energy conserved).
+    #[arg(long, value_name = "LAMBDA", allow_negative_numbers = true)]
+    pub well: Option<f64>,
+    /// The fluid's temperature (its velocities; the lattice starts at kT 1).
+    #[arg(long, value_parser = parse_positive, default_value_t = 1.0, allow_negative_numbers = true)]
+    pub kt: f64,
 }
 
 #[cfg(test)]

@@ -24,8 +24,16 @@ pub struct BenchResult {
     pub boundary: &'static str,
     /// Disc-disc collisions timed.
     pub collisions: u64,
-    /// All events timed (collisions, wall bounces, cell crossings).
+    /// All events timed (collisions, wall bounces, cell crossings, step events).
     pub events: u64,
+    /// Events per second.
+    pub events_per_second: f64,
+    /// Under `--well`: the well's range, and the step events timed.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub well: Option<f64>,
+    /// Step events timed (crossings of and bounces at the well's edge).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub step_events: Option<u64>,
     /// Stale predictions discarded while timing.
     pub stale: u64,
     /// Wall-clock seconds of the timed event loop.
@@ -65,15 +73,33 @@ fn bench<const D: usize>(args: &BenchArgs) -> Result<BenchResult> {
     check_packings("bench", &[args.packing], close_packing(D))?;
     check_count("bench", "melt", args.melt, 0, 100_000)?;
     check_count("bench", "collisions", args.collisions, 1, 100_000)?;
-    let (discs, sim_box) = match lattice_fluid_in::<D>(args.n, args.packing, boundary, args.seed) {
-        Ok(x) => x,
-        Err(e) => return user_error(format!("bench: {e}")),
+    let (mut discs, sim_box) =
+        match lattice_fluid_in::<D>(args.n, args.packing, boundary, args.seed) {
+            Ok(x) => x,
+            Err(e) => return user_error(format!("bench: {e}")),
+        };
+    if args.kt != 1.0 {
+        for d in &mut discs {
+            d.vel = d.vel * args.kt.sqrt();
+        }
+    }
+    let potential = match args.well {
+        None => edmd_core::Potential::default(),
+        Some(l) if l.is_finite() && l > 1.0 && l <= 10.0 => {
+            edmd_core::Potential::single(0, 0, l, -1.0)
+        }
+        Some(l) => {
+            return user_error(format!(
+                "bench: --well must be above 1 and at most 10, found {l}"
+            ))
+        }
     };
-    let mut sim = Simulation::new(&discs, sim_box, Options::default())
-        .or_else(|e| user_error(format!("bench: {e}")))?;
+    let mut sim =
+        Simulation::with_potential_at(&discs, sim_box, &[], &potential, Options::default(), 0.0)
+            .or_else(|e| user_error(format!("bench: {e}")))?;
     drop(discs);
     let v3 = sim.set_portable_loop(args.portable);
-    let e0 = sim.kinetic_energy();
+    let e0 = sim.kinetic_energy() + sim.potential_energy();
     let melt = args.melt * args.n as u64;
     while sim.stats().disc_disc < melt {
         edmd::run_events(&mut sim, 1 << 16)?;
@@ -87,8 +113,8 @@ fn bench<const D: usize>(args: &BenchArgs) -> Result<BenchResult> {
     let seconds = started.elapsed().as_secs_f64();
     let after = sim.stats();
     let collisions = after.disc_disc - before.disc_disc;
-    let events = (after.disc_disc + after.wall + after.cell_crossing)
-        - (before.disc_disc + before.wall + before.cell_crossing);
+    let events = (after.disc_disc + after.wall + after.cell_crossing + after.step)
+        - (before.disc_disc + before.wall + before.cell_crossing + before.step);
     let result = BenchResult {
         dim: D,
         n: args.n,
@@ -99,6 +125,9 @@ fn bench<const D: usize>(args: &BenchArgs) -> Result<BenchResult> {
         },
         collisions,
         events,
+        events_per_second: events as f64 / seconds,
+        well: args.well,
+        step_events: args.well.map(|_| after.step - before.step),
         stale: after.stale - before.stale,
         seconds,
         collisions_per_second: collisions as f64 / seconds,
@@ -106,7 +135,7 @@ fn bench<const D: usize>(args: &BenchArgs) -> Result<BenchResult> {
         grid: sim.grid_dims().to_vec(),
         engine_bytes_per_disc: sim.memory_bytes() as f64 / args.n as f64,
         peak_rss_bytes_per_disc: peak_rss_bytes().map(|b| b as f64 / args.n as f64),
-        relative_energy_change: (sim.kinetic_energy() - e0) / e0,
+        relative_energy_change: (sim.kinetic_energy() + sim.potential_energy() - e0) / e0.abs(),
     };
     Ok(result)
 }

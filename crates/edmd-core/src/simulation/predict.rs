@@ -327,7 +327,7 @@ impl<'a> Nearest<'a> {
     /// Candidate `j` with its contact terms: kept if the pair meets, by moving the end of the
     /// kept list past it (no branch).
     #[inline(always)]
-    fn offer(&mut self, j: usize, terms: ContactTerms) {
+    pub(super) fn offer(&mut self, j: usize, terms: ContactTerms) {
         let k = self.kept & (KEPT - 1);
         self.store.terms[k] = terms;
         self.store.which[k] = j as u32;

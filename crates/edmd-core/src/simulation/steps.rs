@@ -185,7 +185,10 @@ pub(super) fn shell_at(table: &Table, r: f64) -> u8 {
 
 /// Disc `i`'s earliest pair event among the discs around it (`bi`, advanced to `t0`), for a
 /// stepped potential: for each candidate, the arrival at its shell's inner edge if it gets
-/// there, else its departure through the outer edge. Offered to `nearest` as times.
+/// there, else its departure through the outer edge. Most candidates are outside every step
+/// (shell 0), whose only event is the arrival at the outermost one: their contact terms go to
+/// `nearest` as a hard core's do, the roots worked out only for those that meet; the few inside
+/// a step give their times directly.
 #[inline(always)]
 pub(super) fn scan_stepped<const D: usize, const FAR: bool>(
     grid: &crate::cells::CellGrid<D>,
@@ -196,41 +199,65 @@ pub(super) fn scan_stepped<const D: usize, const FAR: bool>(
     t0: f64,
     nearest: &mut super::predict::Nearest<'_>,
 ) {
-    let bi = body[i];
-    let si = species[i];
-    let list = &steps.shells[i][..];
-    grid.visit_near(grid.cell_of(i), |j: usize, shift: Vector<D>| {
-        if j == i {
-            return;
-        }
-        let bj = &body[j];
-        let dr = bj.position_at(t0) + shift - bi.pos;
+    let mut scan = SteppedCandidates::<D, FAR> {
+        body,
+        species,
+        steps,
+        own: body[i],
+        own_species: species[i],
+        list: &steps.shells[i][..],
+        t0,
+        nearest,
+    };
+    grid.visit_near(grid.cell_of(i), &mut scan);
+}
+
+/// [`scan_stepped`]'s visit of one candidate.
+struct SteppedCandidates<'a, 'n, const D: usize, const FAR: bool> {
+    body: &'a [super::Body<D>],
+    species: &'a [u16],
+    steps: &'a Steps,
+    own: super::Body<D>,
+    own_species: u16,
+    list: &'a [(u32, u8)],
+    t0: f64,
+    nearest: &'a mut super::predict::Nearest<'n>,
+}
+
+impl<const D: usize, const FAR: bool> crate::cells::Visit<D>
+    for &mut SteppedCandidates<'_, '_, D, FAR>
+{
+    #[inline(always)]
+    fn visit(&mut self, j: usize, shift: Vector<D>) {
+        let (bi, bj) = (&self.own, &self.body[j]);
+        let dr = bj.position_at(self.t0) + shift - bi.pos;
         let dv = bj.vel - bi.vel;
         let sigma = bi.radius + bj.radius;
-        let t = match steps.table(si, species[j]) {
-            None => {
-                let terms = crate::predict::contact_terms::<D, FAR>(dr, dv, sigma);
-                if terms.meets() {
-                    t0 + crate::predict::contact_root(terms)
-                } else {
-                    f64::INFINITY
-                }
-            }
-            Some(table) => {
-                let s = shell_in(list, j as u32) as usize;
+        // Disc `i` itself (or its periodic image) has dv = 0, which never meets, and shell 0.
+        let table = self.steps.table(self.own_species, self.species[j]);
+        let s = if table.is_some() {
+            shell_in(self.list, j as u32) as usize
+        } else {
+            0
+        };
+        match table {
+            Some(table) if s > 0 => {
                 let inner = if s < table.r.len() { table.r[s] } else { sigma };
                 let terms = crate::predict::contact_terms::<D, FAR>(dr, dv, inner);
-                if terms.meets() {
-                    t0 + crate::predict::contact_root(terms)
-                } else if s > 0 {
-                    t0 + exit_time(dr, dv, table.r[s - 1])
+                let t = if terms.meets() {
+                    self.t0 + crate::predict::contact_root(terms)
                 } else {
-                    f64::INFINITY
-                }
+                    self.t0 + exit_time(dr, dv, table.r[s - 1])
+                };
+                self.nearest.take(t, j as u32);
             }
-        };
-        nearest.take(t, j as u32);
-    });
+            _ => {
+                let reach = table.map_or(sigma, |t| t.r[0]);
+                self.nearest
+                    .offer(j, crate::predict::contact_terms::<D, FAR>(dr, dv, reach));
+            }
+        }
+    }
 }
 
 impl<const D: usize> Simulation<D> {
