@@ -113,3 +113,87 @@ fn bad_thermostat_settings_are_refused() {
     sim.run_until(sim.time() + 5.0, &mut ());
     assert!((sim.kinetic_energy() - e0).abs() < 1e-12 * e0);
 }
+
+#[test]
+fn a_dilute_square_well_gas_has_g_of_r_the_boltzmann_factor_of_the_well() {
+    // At low density g(r) = exp(-u(r)/kT) (Hansen and McDonald, Theory of Simple Liquids,
+    // section 2.5): 0 inside the core, e^{1/1.5} = 1.948 in the well (1 < r < 1.5), 1
+    // beyond. 1000 spheres at rho = 0.01: about 100 pairs in wells per sample, 300 samples a
+    // bath redraw apart; corrections of order rho (a few percent at most here) and the
+    // counting error (about 1%) are inside the 6% allowed.
+    use edmd_core::measure::Rdf;
+    let rho = 0.01;
+    let (discs, bx) = lattice_fluid_in::<3>(
+        1000,
+        rho * std::f64::consts::PI / 6.0,
+        Boundary::Periodic,
+        2,
+    )
+    .unwrap();
+    let mut sim = Simulation::with_potential_at(
+        &discs,
+        bx,
+        &[],
+        &Potential::single(0, 0, 1.5, -1.0),
+        Options::default(),
+        0.0,
+    )
+    .unwrap();
+    sim.set_thermostat(Some(Andersen {
+        kt: 1.5,
+        rate: 1.0,
+        seed: 3,
+    }))
+    .unwrap();
+    sim.run_until(200.0, &mut ());
+    let mut rdf = Rdf::new(&sim, 2.0, 8);
+    for k in 1..=300 {
+        sim.run_until(200.0 + k as f64, &mut ());
+        rdf.sample(&sim);
+    }
+    let g = rdf.curve::<3>();
+    assert_eq!(g.len(), 8);
+    let boltzmann = (1.0f64 / 1.5).exp();
+    for &(r, gr) in &g {
+        let want = if r < 1.0 {
+            0.0
+        } else if r < 1.5 {
+            boltzmann
+        } else {
+            1.0
+        };
+        assert!(
+            (gr - want).abs() <= 0.06 * want,
+            "g({r}) = {gr}, want {want}: {g:?}"
+        );
+    }
+}
+
+#[test]
+fn the_heat_capacity_of_a_dilute_gas_in_the_bath_is_the_ideal_gas_one() {
+    // C_V / (N k) = var(E) / (N kT^2) -> D/2 for an ideal gas (here 200 hard spheres at
+    // packing 0.001, whose excess is of order 1e-3). 6000 samples half a redraw time apart
+    // (consecutive ones correlated by e^{-1}): the variance's error is about 2%; 10% is
+    // allowed (20000 samples gave 1.494 +- 0.018).
+    use edmd_core::measure::Energy;
+    let (discs, bx) = lattice_fluid_in::<3>(200, 0.001, Boundary::Periodic, 4).unwrap();
+    let mut sim = Simulation::new(&discs, bx, Options::default()).unwrap();
+    sim.set_thermostat(Some(Andersen {
+        kt: 2.0,
+        rate: 2.0,
+        seed: 9,
+    }))
+    .unwrap();
+    sim.run_until(20.0, &mut ());
+    let mut energy = Energy::new();
+    for k in 1..=6000 {
+        sim.run_until(20.0 + 0.5 * k as f64, &mut ());
+        energy.sample(&sim);
+    }
+    let s = energy.summary();
+    let cv = s.heat_capacity.expect("a bath");
+    assert!((cv.value - 1.5).abs() < 0.15, "C_V/Nk = {cv:?}");
+    assert!(cv.error > 0.0 && cv.error < 0.1, "{cv:?}");
+    assert!((s.kinetic_per_particle.value - 3.0).abs() < 0.1, "{s:?}");
+    assert!(s.drift.is_nan(), "no drift in a bath");
+}
