@@ -46,7 +46,7 @@ impl<const D: usize> Simulation<D> {
             if !t.is_finite() {
                 return None;
             }
-            let stale = if self.steps.is_some() {
+            let stale = if self.has_extras() {
                 self.discard_if_stale::<true>(i)
             } else {
                 self.discard_if_stale::<false>(i)
@@ -124,9 +124,9 @@ impl<const D: usize> Simulation<D> {
         if self.multi.is_some() {
             return self.run_loop_watched(t_limit, n, observer);
         }
-        // The interaction is a parameter of the loop, chosen here once per chunk: hard cores
-        // alone run a copy with no trace of the steps.
-        let stepped = self.steps.is_some();
+        // The interaction (and a thermostat) is a parameter of the loop, chosen here once per
+        // chunk: hard cores alone run a copy with no trace of steps or redraws.
+        let stepped = self.has_extras();
         #[cfg(target_arch = "x86_64")]
         if self.v3 {
             // SAFETY: `run_loop_v3` only needs the processor features, and `v3` is only set
@@ -154,25 +154,26 @@ impl<const D: usize> Simulation<D> {
     #[cfg(target_arch = "x86_64")]
     #[allow(unsafe_code)]
     #[target_feature(enable = "avx,avx2,fma,bmi1,bmi2,lzcnt,popcnt,movbe")]
-    unsafe fn run_loop_v3<O: Observer<D>, const STEPPED: bool>(
+    unsafe fn run_loop_v3<O: Observer<D>, const EXTRAS: bool>(
         &mut self,
         t_limit: f64,
         n: u64,
         observer: &mut O,
     ) -> u64 {
-        self.run_loop_inline::<O, STEPPED>(t_limit, n, observer)
+        self.run_loop_inline::<O, EXTRAS>(t_limit, n, observer)
     }
 
-    /// The event loop, for hard cores alone or (`STEPPED`) with a stepped potential.
+    /// The event loop, for hard cores alone or (`EXTRAS`) with a stepped potential or a
+    /// thermostat.
     #[inline(always)]
-    pub(super) fn run_loop_inline<O: Observer<D>, const STEPPED: bool>(
+    pub(super) fn run_loop_inline<O: Observer<D>, const EXTRAS: bool>(
         &mut self,
         t_limit: f64,
         n: u64,
         observer: &mut O,
     ) -> u64 {
         for k in 0..n {
-            match self.step_inline::<STEPPED>(t_limit) {
+            match self.step_inline::<EXTRAS>(t_limit) {
                 Some(e) => observer.on_event(&e, self),
                 None => return k,
             }
@@ -201,6 +202,12 @@ impl<const D: usize> Simulation<D> {
         n
     }
 
+    /// Whether the loop must run its copy with steps and redraws.
+    #[inline(always)]
+    pub(super) fn has_extras(&self) -> bool {
+        self.steps.is_some() || self.bath.is_some()
+    }
+
     /// Chooses the portable event loop (`true`) even where the processor runs the faster
     /// x86-64-v3 copy, which is the default there. Results are bit-identical either way; this
     /// is for tests and benchmarks. Returns whether the x86-64-v3 copy is in use.
@@ -221,7 +228,7 @@ impl<const D: usize> Simulation<D> {
         if self.stall.is_some() {
             return None;
         }
-        let e = if self.steps.is_some() {
+        let e = if self.has_extras() {
             self.step_inline::<true>(t_limit)?
         } else {
             self.step_inline::<false>(t_limit)?
@@ -233,7 +240,7 @@ impl<const D: usize> Simulation<D> {
     }
 
     #[inline(always)]
-    pub(super) fn step_inline<const STEPPED: bool>(
+    pub(super) fn step_inline<const EXTRAS: bool>(
         &mut self,
         t_limit: f64,
     ) -> Option<EventRecord<D>> {
@@ -244,7 +251,7 @@ impl<const D: usize> Simulation<D> {
                 return None;
             }
             self.prefetch_upcoming();
-            if self.discard_if_stale::<STEPPED>(i) {
+            if self.discard_if_stale::<EXTRAS>(i) {
                 continue;
             }
             self.event_time = t;
@@ -254,7 +261,7 @@ impl<const D: usize> Simulation<D> {
             // that each copy of the loop inlines the prediction twice (here and for stale
             // events) instead of six times.
             let (record, again) = match self.body[i].pending {
-                Pending::Disc { partner, .. } if STEPPED => {
+                Pending::Disc { partner, .. } if EXTRAS && self.steps.is_some() => {
                     self.collide_stepped(i, partner as usize, t)
                 }
                 Pending::Disc { partner, .. } => self.collide(i, partner as usize, t),
@@ -272,7 +279,7 @@ impl<const D: usize> Simulation<D> {
             };
             for d in again {
                 if d != NO_DISC {
-                    self.predict::<STEPPED>(d);
+                    self.predict::<EXTRAS>(d);
                 }
             }
             return Some(record);
@@ -336,7 +343,7 @@ impl<const D: usize> Simulation<D> {
     /// prediction, none before the second event (BENCHMARKS.md). Otherwise
     /// (2D, whose trajectories stay as they were, or no second event) `i` is predicted again.
     #[inline(always)]
-    pub(super) fn discard_if_stale<const STEPPED: bool>(&mut self, i: usize) -> bool {
+    pub(super) fn discard_if_stale<const EXTRAS: bool>(&mut self, i: usize) -> bool {
         if let Pending::Disc { partner, seen } = self.body[i].pending {
             if self.body[partner as usize].count != seen {
                 self.stats.stale = self.stats.stale.wrapping_add(1);
@@ -350,7 +357,7 @@ impl<const D: usize> Simulation<D> {
                     self.body[i].pending = second;
                     self.queue.set(i, t2);
                 } else {
-                    self.predict::<STEPPED>(i);
+                    self.predict::<EXTRAS>(i);
                 }
                 return true;
             }

@@ -16,7 +16,7 @@ impl<const D: usize> Simulation<D> {
     /// [`Self::predict`] as a function of its own, for the places off the event loop.
     #[inline(never)]
     pub(super) fn predict_outlined(&mut self, i: usize) {
-        if self.steps.is_some() {
+        if self.has_extras() {
             self.predict::<true>(i);
         } else {
             self.predict::<false>(i);
@@ -113,27 +113,27 @@ impl<const D: usize> Simulation<D> {
     }
 
     /// Finds disc `i`'s earliest event from the last event time on and schedules it (with the
-    /// steps of a stepped potential when `STEPPED`).
+    /// steps of a stepped potential and the thermostat's redraws when `EXTRAS`).
     #[inline(always)]
-    pub(super) fn predict<const STEPPED: bool>(&mut self, i: usize) {
+    pub(super) fn predict<const EXTRAS: bool>(&mut self, i: usize) {
         if self.far_contacts {
-            self.predict_far::<STEPPED>(i)
+            self.predict_far::<EXTRAS>(i)
         } else {
-            self.predict_with::<false, STEPPED>(i)
+            self.predict_with::<false, EXTRAS>(i)
         }
     }
 
     /// [`Self::predict`] with contact times in the far form, for systems whose candidates can
     /// be far apart ([`far_contacts`]): outlined, as such systems are few and small.
     #[inline(never)]
-    fn predict_far<const STEPPED: bool>(&mut self, i: usize) {
-        self.predict_with::<true, STEPPED>(i)
+    fn predict_far<const EXTRAS: bool>(&mut self, i: usize) {
+        self.predict_with::<true, EXTRAS>(i)
     }
 
     /// [`Self::predict`], the contact times in the far form when `FAR`. Its start (cell exit,
     /// walls, barriers) is [`Self::own_event`]'s, which must stay in step with it.
     #[inline(always)]
-    fn predict_with<const FAR: bool, const STEPPED: bool>(&mut self, i: usize) {
+    fn predict_with<const FAR: bool, const EXTRAS: bool>(&mut self, i: usize) {
         let t0 = self.event_time;
         self.body[i].advance_to(t0);
         let bi = self.body[i];
@@ -170,7 +170,7 @@ impl<const D: usize> Simulation<D> {
         if !self.barriers.is_empty() {
             (best_t, best) = self.predict_barriers(i, best_t, best);
         }
-        if self.bath.is_some() {
+        if EXTRAS && self.bath.is_some() {
             (best_t, best) = self.bath_event(i, best_t, best);
         }
         // Every candidate's contact terms are worked out, and those that meet are kept, without
@@ -182,7 +182,7 @@ impl<const D: usize> Simulation<D> {
         let simd = D == 3 && !FAR && self.v3;
         #[cfg(not(target_arch = "x86_64"))]
         let simd = false;
-        if STEPPED {
+        if EXTRAS && self.steps.is_some() {
             let steps = self.steps.as_deref().expect("a stepped simulation");
             super::steps::scan_stepped::<D, FAR>(
                 &self.grid,

@@ -243,7 +243,7 @@ impl<const D: usize> Simulation<D> {
         let t = self.event_time;
         let mut discs = Vec::new();
         for _ in 0..STALL_SAMPLE {
-            let e = if self.steps.is_some() {
+            let e = if self.has_extras() {
                 self.step_inline::<true>(t_limit)
             } else {
                 self.step_inline::<false>(t_limit)
