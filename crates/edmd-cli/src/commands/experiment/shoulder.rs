@@ -28,7 +28,7 @@ use serde::Serialize;
 use super::common::{
     files_line, interrupted_after, out_dir, report, write_csv, CommonArgs, Progress,
 };
-use super::square_well::{measure_in_bath, particle_volume, Bath};
+use super::square_well::{check_bath, measure_in_bath, particle_volume, Bath};
 
 /// Options of `edmd experiment shoulder`.
 #[derive(Debug, Args)]
@@ -232,24 +232,7 @@ fn run_in<const D: usize>(args: &ShoulderArgs) -> Result<()> {
             cell_range.end()
         ));
     }
-    if !(args.precision.is_finite() && args.precision >= 1e-4 && args.precision <= 0.5) {
-        return bad(format!(
-            "--precision must be from 1e-4 to 0.5, found {}",
-            args.precision
-        ));
-    }
-    if !(20..=1_000_000).contains(&args.max_blocks) {
-        return bad(format!(
-            "--max-blocks must be from 20 to 1000000, found {}",
-            args.max_blocks
-        ));
-    }
-    if !(args.rate.is_finite() && args.rate > 0.0 && args.rate <= 100.0) {
-        return bad(format!(
-            "--rate must be above 0 and at most 100, found {}",
-            args.rate
-        ));
-    }
+    check_bath("shoulder", args.precision, args.max_blocks, args.rate)?;
     let dir = out_dir(&args.common)?;
     let steps = [Step {
         radius: args.lambda,

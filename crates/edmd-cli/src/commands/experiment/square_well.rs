@@ -170,22 +170,26 @@ fn check(args: &SquareWellArgs, densities: &[f64], n: usize, max_density: f64) -
     if !(16..=200_000).contains(&n) {
         return bad(format!("--n must be from 16 to 200000, found {n}"));
     }
-    if !(args.precision.is_finite() && args.precision >= 1e-4 && args.precision <= 0.5) {
+    check_bath("square-well", args.precision, args.max_blocks, args.rate)
+}
+
+/// Checks the options of a run in the bath (`--precision`, `--max-blocks`, `--rate`) for
+/// the experiment `name`.
+pub(super) fn check_bath(name: &str, precision: f64, max_blocks: usize, rate: f64) -> Result<()> {
+    let bad = |m: String| edmd::user_error(format!("{name}: {m}"));
+    if !(precision.is_finite() && (1e-4..=0.5).contains(&precision)) {
         return bad(format!(
-            "--precision must be from 1e-4 to 0.5, found {}",
-            args.precision
+            "--precision must be from 1e-4 to 0.5, found {precision}"
         ));
     }
-    if !(20..=1_000_000).contains(&args.max_blocks) {
+    if !(20..=1_000_000).contains(&max_blocks) {
         return bad(format!(
-            "--max-blocks must be from 20 to 1000000, found {}",
-            args.max_blocks
+            "--max-blocks must be from 20 to 1000000, found {max_blocks}"
         ));
     }
-    if !(args.rate.is_finite() && args.rate > 0.0 && args.rate <= 100.0) {
+    if !(rate.is_finite() && rate > 0.0 && rate <= 100.0) {
         return bad(format!(
-            "--rate must be above 0 and at most 100, found {}",
-            args.rate
+            "--rate must be above 0 and at most 100, found {rate}"
         ));
     }
     Ok(())
