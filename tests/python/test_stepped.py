@@ -447,3 +447,10 @@ def test_bad_generator_options_raise_naming_the_argument(case, k):
     wanted = {"rule": "elastic rule", "multi": "multi-disc"}.get(arg, arg)
     assert message_names(message, wanted), message
     assert "\n" not in message and not re.search(r"[0-9]{30}", message), message
+
+
+def test_pack_refuses_a_stepped_start():
+    # Packing compresses hard particles: a start with a well would lose its potential.
+    sim = edmd.gen.fluid(n=100, packing=0.3, well=1.5, seed=1)
+    with pytest.raises(ValueError, match="stepped potential"):
+        edmd.pack(start=sim)

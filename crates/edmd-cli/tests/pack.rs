@@ -680,3 +680,19 @@ fn a_killed_compression_leaves_no_temporary_file() {
         .collect();
     assert!(left.is_empty(), "{left:?}");
 }
+
+// A file with a stepped potential was packed as hard particles, the potential silently dropped
+// from the packing written. Pack compresses hard particles: such a start is refused by name.
+#[test]
+fn a_start_with_a_stepped_potential_is_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let start = crate::support::write(
+        &dir,
+        "well.txt",
+        "2\n# edmd box 6 6\n# edmd boundary periodic\n# edmd potential 0 0 1.5 -1\n1 1 0.5 0 0.5 1 0 0 0\n4 4 0 0.5 0.5 1 0 0 0\n",
+    );
+    let out = dir.path().join("packed.txt");
+    let o = crate::support::run("edmd", &["pack", &start, "-o", out.to_str().unwrap()], None);
+    crate::support::refused(&o, &["well.txt", "stepped potential"]);
+    assert!(!out.exists());
+}

@@ -201,14 +201,16 @@ pub fn pack<'py>(
         .map(|p| p.display().to_string())
         .unwrap_or_default();
     let given = start.map(|s| {
-        let (start, barriers) = match &s.inner {
+        let (start, barriers, stepped) = match &s.inner {
             Inner::Two(s) => (
                 Start::Two(s.sim.discs(), *s.sim.sim_box()),
                 !s.sim.barriers().is_empty(),
+                s.sim.is_stepped(),
             ),
             Inner::Three(s) => (
                 Start::Three(s.sim.discs(), *s.sim.sim_box()),
                 !s.sim.barriers().is_empty(),
+                s.sim.is_stepped(),
             ),
         };
         Given {
@@ -216,6 +218,7 @@ pub fn pack<'py>(
             what: "start",
             start,
             barriers,
+            stepped,
             lines: Vec::new(),
         }
     });
@@ -225,6 +228,7 @@ pub fn pack<'py>(
             what: &resume_name,
             start: Start::Checkpoint(bytes),
             barriers: false,
+            stepped: false,
             lines: Vec::new(),
         }),
         None => given,

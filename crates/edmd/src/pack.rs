@@ -194,6 +194,8 @@ pub struct Given<'a> {
     pub start: Start,
     /// Whether it has barriers (pack refuses them).
     pub barriers: bool,
+    /// Whether it has a stepped potential (pack refuses it: it compresses hard particles).
+    pub stepped: bool,
     /// The line of each particle in the file (`lines[i]` for particle `i`), so that a refused
     /// start names the line; empty when the start is not a file.
     pub lines: Vec<usize>,
@@ -250,6 +252,12 @@ pub fn pack(
             refuse_random_options(args, given.what)?;
             if given.barriers {
                 return user_error(format!("{}: pack does not take barriers", given.name));
+            }
+            if given.stepped {
+                return user_error(format!(
+                    "{}: pack compresses hard particles, and this start has a stepped potential; pack its discs without it",
+                    given.name
+                ));
             }
             match given.start {
                 Start::Two(discs, sim_box) => {

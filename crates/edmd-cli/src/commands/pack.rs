@@ -32,32 +32,41 @@ pub fn run(args: &PackArgs) -> Result<()> {
     let what = args.file.as_ref().map(|f| format!("the file {f}"));
     let given = match &args.file {
         Some(path) => match read_pack_checkpoint(Path::new(path))? {
-            Some(bytes) => Some((path.as_str(), Start::Checkpoint(bytes), false, Vec::new())),
+            Some(bytes) => Some((
+                path.as_str(),
+                Start::Checkpoint(bytes),
+                false,
+                false,
+                Vec::new(),
+            )),
             None => {
                 refuse_random_options(args, what.as_deref().unwrap_or_default())?;
-                let (start, barriers, lines) =
+                let (start, barriers, stepped, lines) =
                     match read_any(path, None, ColumnOrder::RadiusMass, None)? {
                         edmd_io::AnyLoaded::Two(sys) => (
                             Start::Two(sys.discs, sys.sim_box),
                             !sys.barriers.is_empty(),
+                            !sys.potential.is_hard(),
                             sys.lines,
                         ),
                         edmd_io::AnyLoaded::Three(sys) => (
                             Start::Three(sys.discs, sys.sim_box),
                             !sys.barriers.is_empty(),
+                            !sys.potential.is_hard(),
                             sys.lines,
                         ),
                     };
-                Some((path.as_str(), start, barriers, lines))
+                Some((path.as_str(), start, barriers, stepped, lines))
             }
         },
         None => None,
     };
-    let given = given.map(|(name, start, barriers, lines)| Given {
+    let given = given.map(|(name, start, barriers, stepped, lines)| Given {
         name,
         what: what.as_deref().unwrap_or_default(),
         start,
         barriers,
+        stepped,
         lines,
     });
     // The output's place was checked with the others (`check_outputs`), without creating
