@@ -8,7 +8,7 @@
 //! conserved and its fluctuations say nothing. Its error comes from the variances of blocks of
 //! samples (each longer than the correlation time, as for the other block errors).
 
-use super::stats::Estimate;
+use super::stats::{variance, Estimate};
 use crate::simulation::Simulation;
 
 /// Energy samples: `(t, kinetic, potential)`.
@@ -110,14 +110,4 @@ fn mean_with_blocks(values: &[f64]) -> Estimate {
         .map(|b| b.iter().sum::<f64>() / b.len() as f64)
         .collect();
     Estimate::new(if values.is_empty() { f64::NAN } else { mean }, &blocks)
-}
-
-/// Sample variance (denominator `n - 1`; `NaN` below two values).
-fn variance(values: &[f64]) -> f64 {
-    let k = values.len();
-    if k < 2 {
-        return f64::NAN;
-    }
-    let mean = values.iter().sum::<f64>() / k as f64;
-    values.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / (k - 1) as f64
 }

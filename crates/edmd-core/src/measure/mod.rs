@@ -55,5 +55,7 @@ pub use pressure::{Pressure, PressureBlock, PressureSummary};
 pub use rdf::Rdf;
 pub use species::{SpeciesHalves, SpeciesSnapshot, SpeciesSummary};
 pub use speeds::{maxwell_cdf, maxwell_pdf, rayleigh_cdf, rayleigh_pdf, SpeedSummary, Speeds};
-pub use stats::{block_error, kolmogorov_q, ks_test, linear_fit, Estimate, Histogram, KsTest};
+pub use stats::{
+    block_error, kolmogorov_q, ks_test, linear_fit, variance, Estimate, Histogram, KsTest,
+};
 pub use temperature::{kinetic_temperature, Temperature, TemperatureSummary};

@@ -125,13 +125,7 @@ impl Rdf {
         }
         let rho = self.n as f64 / self.volume;
         let w = self.hist.width;
-        let ball = |r: f64| {
-            if D == 3 {
-                4.0 / 3.0 * std::f64::consts::PI * r.powi(3)
-            } else {
-                std::f64::consts::PI * r * r
-            }
-        };
+        let ball = |r: f64| crate::setup::lattice::ball_volume(2.0 * r, D);
         self.hist
             .counts
             .iter()

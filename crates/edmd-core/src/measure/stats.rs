@@ -40,6 +40,16 @@ pub fn block_error(values: &[f64]) -> f64 {
     (var / b as f64).sqrt()
 }
 
+/// Sample variance of `values` (denominator `n - 1`); `NaN` below two values.
+pub fn variance(values: &[f64]) -> f64 {
+    let k = values.len();
+    if k < 2 {
+        return f64::NAN;
+    }
+    let mean = values.iter().sum::<f64>() / k as f64;
+    values.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / (k - 1) as f64
+}
+
 /// A histogram of equal bins on `[lo, hi)`, with counts of the values that fell outside.
 #[derive(Clone, Debug, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]

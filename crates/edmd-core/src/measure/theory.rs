@@ -205,13 +205,9 @@ mod tests {
     }
 }
 
-/// The volume of a `dim`-ball of radius `r` (the area of a disc in 2D).
+/// The volume (area in 2D) of a ball of radius `r`.
 fn ball(dim: usize, r: f64) -> f64 {
-    if dim == 3 {
-        4.0 / 3.0 * std::f64::consts::PI * r.powi(3)
-    } else {
-        std::f64::consts::PI * r * r
-    }
+    crate::setup::lattice::ball_volume(2.0 * r, dim)
 }
 
 /// The shells of a stepped potential outside a hard core `sigma`: `(inner radius, outer radius,

@@ -21,7 +21,7 @@
 use anyhow::Result;
 use clap::Args;
 use edmd_core::measure::theory::{stepped_b2, stepped_energy_low_density};
-use edmd_core::measure::{Estimate, Pressure};
+use edmd_core::measure::{variance, Estimate, Pressure};
 use edmd_core::setup::lattice_fluid_in;
 use edmd_core::{Andersen, Boundary, Options, Potential, Simulation, Step};
 use edmd_plot::{Figure, Series};
@@ -137,11 +137,7 @@ pub fn run(args: &SquareWellArgs) -> Result<()> {
 
 /// The volume (area) of a particle of unit diameter.
 pub(super) fn particle_volume<const D: usize>() -> f64 {
-    if D == 3 {
-        std::f64::consts::PI / 6.0
-    } else {
-        std::f64::consts::PI / 4.0
-    }
+    edmd_core::setup::lattice::ball_volume(1.0, D)
 }
 
 fn check(args: &SquareWellArgs, densities: &[f64], n: usize, max_density: f64) -> Result<()> {
@@ -158,7 +154,7 @@ fn check(args: &SquareWellArgs, densities: &[f64], n: usize, max_density: f64) -
     if densities.is_empty() {
         return bad("give at least one density".into());
     }
-    let min = edmd_core::setup::MIN_PACKING / particle_volume_for(args.dim);
+    let min = edmd_core::setup::MIN_PACKING / edmd_core::setup::lattice::ball_volume(1.0, args.dim);
     if let Some(r) = densities
         .iter()
         .find(|&&r| !(r.is_finite() && r >= min && r <= max_density))
@@ -193,14 +189,6 @@ pub(super) fn check_bath(name: &str, precision: f64, max_blocks: usize, rate: f6
         ));
     }
     Ok(())
-}
-
-fn particle_volume_for(dim: usize) -> f64 {
-    if dim == 3 {
-        particle_volume::<3>()
-    } else {
-        particle_volume::<2>()
-    }
 }
 
 /// How a stepped fluid is held and measured in the bath.
@@ -380,14 +368,6 @@ fn eos_values(lambda: f64, kt: f64, rho: f64) -> Option<(f64, f64)> {
 
 pub(super) fn mean(v: &[f64]) -> f64 {
     v.iter().sum::<f64>() / v.len().max(1) as f64
-}
-
-fn variance(v: &[f64]) -> f64 {
-    if v.len() < 2 {
-        return f64::NAN;
-    }
-    let m = mean(v);
-    v.iter().map(|x| (x - m).powi(2)).sum::<f64>() / (v.len() - 1) as f64
 }
 
 fn run_in<const D: usize>(args: &SquareWellArgs) -> Result<()> {
