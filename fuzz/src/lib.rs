@@ -262,7 +262,7 @@ pub struct Watch {
     /// Time of the last event seen.
     pub last: f64,
     /// Disc-disc, wall, cell-crossing and barrier events seen.
-    pub counts: [u64; 6],
+    pub counts: [u64; 7],
 }
 
 impl<const D: usize> Observer<D> for Watch {
@@ -288,6 +288,7 @@ impl<const D: usize> Observer<D> for Watch {
             EventKind::Barrier { .. } => 3,
             EventKind::Step { .. } => 4,
             EventKind::Thermostat { .. } => 5,
+            EventKind::NeighbourList { .. } => 6,
         };
         self.counts[k] += 1;
     }
@@ -305,7 +306,7 @@ pub fn run_checked<const D: usize>(sim: &mut Simulation<D>, events: u64) -> u64 
     let all_periodic = (0..D).all(|a| sim.sim_box().is_periodic(a)) && sim.barriers().is_empty();
     let mut watch = Watch {
         last: sim.time(),
-        counts: [0; 6],
+        counts: [0; 7],
     };
     let mut done = 0;
     while done < events {
@@ -322,8 +323,9 @@ pub fn run_checked<const D: usize>(sim: &mut Simulation<D>, events: u64) -> u64 
             after.barrier - before.barrier,
             after.step - before.step,
             after.thermostat - before.thermostat,
+            after.neighbour_list - before.neighbour_list,
         ];
-        let delta: Vec<u64> = (0..6).map(|a| watch.counts[a] - seen[a]).collect();
+        let delta: Vec<u64> = (0..7).map(|a| watch.counts[a] - seen[a]).collect();
         assert_eq!(
             moved.to_vec(),
             delta,

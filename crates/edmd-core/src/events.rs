@@ -52,6 +52,13 @@ pub enum EventKind {
         /// The disc.
         i: usize,
     },
+    /// Disc `i`'s neighbour list was made again, the disc having moved half the lists' skin
+    /// since it was last made (bookkeeping under a stepped potential, in place of cell
+    /// crossings; no velocity change).
+    NeighbourList {
+        /// The disc.
+        i: usize,
+    },
     /// Disc `i` moved into a neighbouring cell (bookkeeping; no velocity change).
     CellCrossing {
         /// The disc.
@@ -61,6 +68,17 @@ pub enum EventKind {
         /// Direction.
         side: Side,
     },
+}
+
+impl EventKind {
+    /// Whether this is bookkeeping that changes no velocity: a cell crossing, or a neighbour
+    /// list made again.
+    pub fn is_bookkeeping(&self) -> bool {
+        matches!(
+            self,
+            EventKind::CellCrossing { .. } | EventKind::NeighbourList { .. }
+        )
+    }
 }
 
 /// What happened at a barrier.
@@ -115,4 +133,6 @@ pub(crate) enum Pending {
     Barrier { index: u16, part: u8 },
     /// The thermostat's next redraw of the disc's velocity.
     Thermostat,
+    /// Its neighbour list made again (stepped potentials).
+    Relist,
 }

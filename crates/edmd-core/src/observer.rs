@@ -82,6 +82,7 @@ impl<const D: usize> Observer<D> for CollisionCounter {
             }
             EventKind::Step { .. }
             | EventKind::Thermostat { .. }
+            | EventKind::NeighbourList { .. }
             | EventKind::CellCrossing { .. } => {}
         }
     }

@@ -106,14 +106,15 @@ fn restarts_are_exact_for_spheres() {
 // Version 1 lacked the stall watcher's place in its chunk (16 bytes after the
 // count of events in a row): it is still read, as if at a chunk's start. (Version 3 added the
 // spheres' second events, a section 2D checkpoints do not have, and version 4 the stepped
-// potential and the thermostat, a byte each when there are none.)
+// potential and the thermostat, a byte each when there are none; version 5 changed only
+// the stepped potential's section.)
 #[test]
 fn version_1_checkpoints_are_still_read() {
     let discs = random_discs(6, 10.0, 0.3, 0.5, true, 7);
     let mut sim = Simulation::new(&discs, SimBox::walls([10.0, 10.0]), Options::default()).unwrap();
     sim.run_until(2.0, &mut ());
     let v2 = sim.to_checkpoint(b"options");
-    assert_eq!(CHECKPOINT_VERSION, 4);
+    assert_eq!(CHECKPOINT_VERSION, 5);
     // Payload end: ..., the count (8), the chunk's time (8) and events (8), no stall (1), no
     // stepped potential (1) and no thermostat (1, both from version 4), the caller's bytes (a
     // length, 8, and 7 bytes); then the CRC-32 (4).

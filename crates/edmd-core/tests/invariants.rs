@@ -50,6 +50,7 @@ impl Observer for Watchdog {
             EventKind::Wall { i, .. } | EventKind::Barrier { i, .. } => self.last_partner[i] = None,
             EventKind::Step { .. }
             | EventKind::Thermostat { .. }
+            | EventKind::NeighbourList { .. }
             | EventKind::CellCrossing { .. } => {}
         }
     }

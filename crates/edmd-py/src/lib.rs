@@ -1013,8 +1013,9 @@ impl PySimulation {
 
     /// Event counts so far: a dict with "disc_disc", "wall", "cell_crossing", "stale",
     /// "barrier" (as `edmd run` reports them), "step" (crossings of and bounces off the steps
-    /// of a stepped potential; hard-core collisions count in "disc_disc") and "thermostat"
-    /// (velocities redrawn by the thermostat).
+    /// of a stepped potential; hard-core collisions count in "disc_disc"), "thermostat"
+    /// (velocities redrawn by the thermostat) and "neighbour_list" (under a stepped potential,
+    /// whose discs have no cell crossings: neighbour lists made again).
     #[getter]
     fn stats<'py>(slf: &Bound<'py, Self>) -> PyResult<Bound<'py, PyDict>> {
         let st = each!(&get(slf)?.inner, s => s.sim.stats());
@@ -1026,6 +1027,7 @@ impl PySimulation {
         d.set_item("barrier", st.barrier)?;
         d.set_item("step", st.step)?;
         d.set_item("thermostat", st.thermostat)?;
+        d.set_item("neighbour_list", st.neighbour_list)?;
         Ok(d)
     }
 

@@ -264,6 +264,9 @@ impl<const D: usize> ViewerApp<D> {
                         format!("{one} {i} meets barrier {barrier}")
                     }
                     EventKind::CellCrossing { i, .. } => format!("{one} {i} changes cell"),
+                    EventKind::NeighbourList { i } => {
+                        format!("{one} {i}'s neighbour list is made again")
+                    }
                     EventKind::Thermostat { i } => {
                         format!("{one} {i} is given a new velocity by the thermostat")
                     }
@@ -448,6 +451,7 @@ impl<const D: usize> ViewerApp<D> {
             + stats.wall
             + stats.barrier
             + stats.cell_crossing
+            + stats.neighbour_list
             + stats.step
             + stats.thermostat;
         egui::Grid::new("counters")

@@ -87,6 +87,7 @@ impl<const D: usize> Observer<D> for Trails<D> {
             EventKind::Wall { i, .. }
             | EventKind::Barrier { i, .. }
             | EventKind::Thermostat { i }
+            | EventKind::NeighbourList { i }
             | EventKind::CellCrossing { i, .. } => (i, None),
         };
         for k in 0..self.tagged.len() {
@@ -162,14 +163,14 @@ impl<const D: usize> Model<D> {
     }
 
     /// Processes events up to and including the next one that changes a velocity (cell
-    /// crossings are bookkeeping and are passed over). Returns it, or `None` if nothing will
+    /// crossings and neighbour lists made again are bookkeeping and are passed over). Returns it, or `None` if nothing will
     /// ever happen.
     pub fn step_event(&mut self) -> Option<EventRecord<D>> {
         loop {
             let e = self.sim.step(f64::INFINITY)?;
             self.pressure.on_event(&e, &self.sim);
             self.trails.on_event(&e, &self.sim);
-            if !matches!(e.kind, EventKind::CellCrossing { .. }) {
+            if !e.kind.is_bookkeeping() {
                 self.trails.record(&self.sim);
                 return Some(e);
             }

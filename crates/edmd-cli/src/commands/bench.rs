@@ -24,7 +24,8 @@ pub struct BenchResult {
     pub boundary: &'static str,
     /// Disc-disc collisions timed.
     pub collisions: u64,
-    /// All events timed (collisions, wall bounces, cell crossings, step events).
+    /// All events timed (collisions, wall bounces, cell crossings, step events, neighbour
+    /// lists made again).
     pub events: u64,
     /// Events per second.
     pub events_per_second: f64,
@@ -34,6 +35,13 @@ pub struct BenchResult {
     /// Step events timed (crossings of and bounces at the well's edge).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub step_events: Option<u64>,
+    /// Under `--well`: hard-core collisions and step events per second (the events DynamO
+    /// counts).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub pair_events_per_second: Option<f64>,
+    /// Under `--well`: neighbour lists made again while timing (in place of cell crossings).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub neighbour_lists: Option<u64>,
     /// Stale predictions discarded while timing.
     pub stale: u64,
     /// Wall-clock seconds of the timed event loop.
@@ -113,8 +121,10 @@ fn bench<const D: usize>(args: &BenchArgs) -> Result<BenchResult> {
     let seconds = started.elapsed().as_secs_f64();
     let after = sim.stats();
     let collisions = after.disc_disc - before.disc_disc;
-    let events = (after.disc_disc + after.wall + after.cell_crossing + after.step)
-        - (before.disc_disc + before.wall + before.cell_crossing + before.step);
+    let all =
+        |s: edmd_core::Stats| s.disc_disc + s.wall + s.cell_crossing + s.step + s.neighbour_list;
+    let events = all(after) - all(before);
+    let pair_events = collisions + after.step - before.step;
     let result = BenchResult {
         dim: D,
         n: args.n,
@@ -128,6 +138,10 @@ fn bench<const D: usize>(args: &BenchArgs) -> Result<BenchResult> {
         events_per_second: events as f64 / seconds,
         well: args.well,
         step_events: args.well.map(|_| after.step - before.step),
+        pair_events_per_second: args.well.map(|_| pair_events as f64 / seconds),
+        neighbour_lists: args
+            .well
+            .map(|_| after.neighbour_list - before.neighbour_list),
         stale: after.stale - before.stale,
         seconds,
         collisions_per_second: collisions as f64 / seconds,

@@ -56,6 +56,10 @@ pub struct Summary {
     /// Under a stepped potential: events at its steps (crossings and bounces).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub step_events: Option<u64>,
+    /// Under a stepped potential: neighbour lists made again (its discs have no cell
+    /// crossings).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub neighbour_lists: Option<u64>,
     /// Under a stepped potential: the potential energy at the end.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub potential_energy: Option<f64>,
@@ -429,6 +433,7 @@ fn execute<const D: usize>(
         },
         relative_energy_change: if e0 != 0.0 { (e1 - e0) / e0.abs() } else { 0.0 },
         step_events: sim.is_stepped().then_some(stats.step),
+        neighbour_lists: sim.is_stepped().then_some(stats.neighbour_list),
         potential_energy: sim.is_stepped().then(|| sim.potential_energy()),
         discs_moved_into_box: sim.adjusted_discs(),
         frames,
@@ -693,8 +698,12 @@ fn human(s: &Summary) -> String {
     if s.barrier_events > 0 {
         t += &format!("\nbarriers: {} events", s.barrier_events);
     }
-    if let (Some(steps), Some(u)) = (s.step_events, s.potential_energy) {
-        t += &format!("\nsteps: {steps} events; potential energy at the end {u}");
+    if let (Some(steps), Some(u), Some(lists)) =
+        (s.step_events, s.potential_energy, s.neighbour_lists)
+    {
+        t += &format!(
+            "\nsteps: {steps} events, {lists} neighbour lists made again; potential energy at the end {u}"
+        );
     }
     if s.discs_moved_into_box > 0 {
         t += &format!(

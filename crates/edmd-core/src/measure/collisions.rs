@@ -261,6 +261,7 @@ impl<const D: usize> Observer<D> for Collisions {
             // the hard cores.
             EventKind::Step { .. }
             | EventKind::Thermostat { .. }
+            | EventKind::NeighbourList { .. }
             | EventKind::CellCrossing { .. } => {}
         }
     }

@@ -214,6 +214,7 @@ impl<const D: usize> Observer<D> for Pressure {
             // wall: no pressure.
             EventKind::Barrier { .. }
             | EventKind::Thermostat { .. }
+            | EventKind::NeighbourList { .. }
             | EventKind::CellCrossing { .. } => {}
         }
     }

@@ -250,7 +250,11 @@ impl<const D: usize> Simulation<D> {
             if t > t_limit || t == f64::INFINITY {
                 return None;
             }
-            self.prefetch_upcoming();
+            if EXTRAS && self.steps.is_some() {
+                self.prefetch_upcoming_listed();
+            } else {
+                self.prefetch_upcoming();
+            }
             if self.discard_if_stale::<EXTRAS>(i) {
                 continue;
             }
@@ -275,7 +279,11 @@ impl<const D: usize> Simulation<D> {
                     (self.meet_barrier(i, index as usize, part, t), [i, NO_DISC])
                 }
                 Pending::Thermostat => (self.redraw(i, t), [i, NO_DISC]),
-                Pending::Nothing => unreachable!("finite time with nothing pending"),
+                Pending::Relist if EXTRAS => (self.relist(i, t), [i, NO_DISC]),
+                // Only a stepped potential (`EXTRAS`) has neighbour lists.
+                Pending::Nothing | Pending::Relist => {
+                    unreachable!("finite time with nothing pending")
+                }
             };
             for d in again {
                 if d != NO_DISC {
@@ -322,6 +330,39 @@ impl<const D: usize> Simulation<D> {
         let last = (self.body.len() as u32).saturating_sub(1);
         self.grid
             .prefetch_first_around(k1, |j| self.prefetch_record(j.min(last) as usize));
+    }
+
+    /// [`Self::prefetch_upcoming`] under a stepped potential, whose predictions read the
+    /// discs' neighbour lists rather than the grid. A pipeline as there: the third disc's
+    /// record and the head of its list; the second disc's list and its partner's record and
+    /// list head; the records of the first disc's neighbours. Hints only.
+    #[inline(always)]
+    fn prefetch_upcoming_listed(&self) {
+        let steps = self.steps.as_deref().expect("a stepped simulation");
+        let mut up = self.queue.upcoming();
+        let (Some(k1), k2, k3) = (up.next(), up.next(), up.next()) else {
+            return;
+        };
+        if let Some(k3) = k3 {
+            self.prefetch_record(k3);
+            prefetch(&steps.near[k3]);
+        }
+        if let Some(k2) = k2 {
+            let list = &steps.near[k2];
+            if let Some(first) = list.first() {
+                prefetch(first);
+                if list.len() > 8 {
+                    prefetch(&list[8]);
+                }
+            }
+            if let Pending::Disc { partner, .. } = self.body[k2].pending {
+                self.prefetch_record(partner as usize);
+                prefetch(&steps.near[partner as usize]);
+            }
+        }
+        for &(j, _) in &steps.near[k1] {
+            prefetch(&self.body[j as usize]);
+        }
     }
 
     /// Prefetches disc `i`'s record: its first line and, in 3D, where an 80-byte record

@@ -156,7 +156,7 @@ pub struct Simulation<const D: usize = 2> {
     stall: Option<Stall>,
     /// The stepped potential and the shells of its pairs; `None` for hard cores alone, which
     /// run the event loop compiled without it (`run_chunk`).
-    steps: Option<Box<steps::Steps>>,
+    steps: Option<Box<steps::Steps<D>>>,
     /// The Andersen thermostat, with each disc's next redraw; `None`: energy is conserved.
     bath: Option<Box<thermostat::Bath>>,
 }
@@ -303,7 +303,7 @@ impl<const D: usize> Simulation<D> {
                             "a stepped potential needs the elastic rule".into(),
                         ));
                     }
-                    Some(Box::new(steps::Steps::new(p, discs)?))
+                    Some(Box::new(steps::Steps::new(p, discs, &sim_box)?))
                 }
             }
         };
@@ -341,12 +341,13 @@ impl<const D: usize> Simulation<D> {
                 return Err(Error::OutsideBox { first, count });
             }
         }
-        // Cells at least as wide as the longest reach of a pair: the largest diameter, or the
+        // Cells at least as wide as the longest reach of a pair (the largest diameter), or
+        // under a stepped potential as the neighbour lists' radius, which adds the skin to the
         // outermost step.
-        let max_diameter = discs
-            .iter()
-            .map(|d| 2.0 * d.radius)
-            .fold(steps.as_ref().map_or(0.0, |s| s.range), f64::max);
+        let max_diameter = steps.as_ref().map_or_else(
+            || discs.iter().map(|d| 2.0 * d.radius).fold(0.0, f64::max),
+            |s| s.list_radius,
+        );
         let grid = CellGrid::new(
             &sim_box,
             discs.len(),
@@ -399,7 +400,7 @@ impl<const D: usize> Simulation<D> {
         sim.mean_mv2 = sim.mean_mv2_now();
         sim.creep_span = sim.creep_span();
         sim.file_all_in_grid();
-        sim.assign_shells();
+        sim.assign_shells(None);
         if options.overlaps == OverlapPolicy::Refuse {
             if let Some((disc, barrier)) = sim.barrier_overlap() {
                 return Err(Error::BarrierOverlap { disc, barrier });
@@ -674,10 +675,7 @@ impl<const D: usize> Simulation<D> {
             + self.image.capacity() * size_of::<[i32; D]>()
             + self.queue.memory_bytes()
             + self.grid.memory_bytes()
-            + self.steps.as_ref().map_or(0, |s| {
-                s.shells.capacity() * size_of::<Vec<(u32, u8)>>()
-                    + s.shells.iter().map(|l| l.capacity() * 8).sum::<usize>()
-            })
+            + self.steps.as_ref().map_or(0, |s| s.memory_bytes())
     }
 }
 

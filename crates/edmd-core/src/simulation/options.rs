@@ -88,4 +88,7 @@ pub struct Stats {
     pub step: u64,
     /// Velocities redrawn by the Andersen thermostat.
     pub thermostat: u64,
+    /// Neighbour lists made again (stepped potentials, whose discs are filed by where their
+    /// lists were made and have no cell crossings).
+    pub neighbour_list: u64,
 }

@@ -31,7 +31,11 @@ use crate::frame::{self, Reader, Writer};
 /// The first bytes of every checkpoint.
 pub const MAGIC: &[u8; 8] = frame::RUN.magic;
 
-/// The checkpoint format this build writes. It reads this one, version 3 (which had no stepped
+/// The checkpoint format this build writes. It reads this one, version 4 (whose stepped
+/// potentials kept their discs' cells by position, with no neighbour lists: such a run
+/// continues with its discs at the last event time and their lists made there, every event
+/// predicted afresh, which is a faithful continuation but not the bits a version-4 build would
+/// have gone on with), version 3 (which had no stepped
 /// potentials: it continues with hard cores alone), version 2 (which lacked the
 /// spheres' second-earliest events: a 3D version-2 checkpoint continues with none, so its
 /// first stale events are predicted afresh) and version 1 (which also lacked the stall
@@ -70,6 +74,7 @@ fn describe(p: Pending) -> String {
         Pending::Barrier { index, part } => format!("barrier event ({index}, part {part})"),
         Pending::Disc { partner, .. } => format!("collision with disc {partner}"),
         Pending::Thermostat => "thermostat redraw".into(),
+        Pending::Relist => "neighbour list's renewal".into(),
         Pending::Nothing => "no event".into(),
     }
 }
@@ -99,6 +104,7 @@ fn write_pending(w: &mut Writer, p: Pending) {
             w.u8(part);
         }
         Pending::Thermostat => w.u8(5),
+        Pending::Relist => w.u8(6),
     }
 }
 
@@ -153,6 +159,7 @@ fn read_pending<const D: usize>(
             }
         }
         5 => Pending::Thermostat,
+        6 => Pending::Relist,
         x => return bad(format!("disc {i}: event code {x}")),
     };
     Ok(pending)
@@ -290,12 +297,14 @@ impl<const D: usize> Simulation<D> {
                 write_pending(&mut w, p);
             }
         }
-        // The stepped potential, its step count and every pair's shell (format 4).
+        // The stepped potential, its step count, every disc's neighbour list with each pair's
+        // shell, and where each list was made (format 5).
         match &self.steps {
             None => w.u8(0),
             Some(steps) => {
                 w.u8(1);
                 w.u64(self.stats.step);
+                w.u64(self.stats.neighbour_list);
                 let p = &steps.potential;
                 w.len(p.pairs.len());
                 for pair in &p.pairs {
@@ -307,7 +316,10 @@ impl<const D: usize> Simulation<D> {
                         w.f64(st.energy);
                     }
                 }
-                for list in &steps.shells {
+                for (list, centre) in steps.near.iter().zip(&steps.centre) {
+                    for a in 0..D {
+                        w.f64(centre[a]);
+                    }
                     w.len(list.len());
                     for &(j, sh) in list {
                         w.u32(j);
@@ -393,6 +405,7 @@ impl<const D: usize> Simulation<D> {
             barrier: r.u64()?,
             step: 0,
             thermostat: 0,
+            neighbour_list: 0,
         };
         let adjusted = r.u64()? as usize;
         let mean_mv2 = r.f64()?;
@@ -595,9 +608,14 @@ impl<const D: usize> Simulation<D> {
             }
         }
         let mut steps = None;
-        let mut step_events = 0;
+        let (mut step_events, mut relists) = (0, 0);
+        // Version 4's shells, whose lists are made afresh once the simulation is built.
+        let mut shells_v4 = None;
         if version >= 4 && r.flag("stepped potential")? {
             step_events = r.u64()?;
+            if version >= 5 {
+                relists = r.u64()?;
+            }
             let np = r.len(12)?;
             let mut potential = crate::state::Potential::default();
             for _ in 0..np {
@@ -626,36 +644,39 @@ impl<const D: usize> Simulation<D> {
                     d
                 })
                 .collect();
-            let mut st = super::steps::Steps::new(&potential, &discs)
+            let mut st = super::steps::Steps::new(&potential, &discs, &sim_box)
                 .or_else(|e| bad(format!("stepped potential: {e}")))?;
+            let mut v4 = Vec::new();
             for i in 0..n {
+                if version >= 5 {
+                    let mut c = Vector::ZERO;
+                    for a in 0..D {
+                        c[a] = r.f64()?;
+                    }
+                    if !c.is_finite() {
+                        return bad(format!("disc {i}: list centre {c:?}"));
+                    }
+                    st.centre[i] = c;
+                }
                 let k = r.len(5)?;
                 let mut list = Vec::with_capacity(k);
                 for _ in 0..k {
                     let j = r.u32()?;
                     let sh = r.u8()?;
-                    let steps_of_pair = (j as usize) < n && j as usize != i;
-                    let m = if steps_of_pair {
-                        st.table(species[i], species[j as usize])
-                            .map_or(0, |t| t.r.len())
-                    } else {
-                        0
-                    };
-                    if sh == 0 || sh as usize > m {
+                    if j as usize >= n || (version == 4 && sh == 0) {
                         return bad(format!("disc {i}: shell {sh} with disc {j}"));
                     }
                     list.push((j, sh));
                 }
-                st.shells[i] = list;
-            }
-            for (i, list) in st.shells.iter().enumerate() {
-                for &(j, sh) in list {
-                    if super::steps::shell_in(&st.shells[j as usize], i as u32) != sh
-                        || list.iter().filter(|e| e.0 == j).count() != 1
-                    {
-                        return bad(format!("discs {i} and {j}: shells that disagree"));
-                    }
+                if version >= 5 {
+                    st.near[i] = list;
+                } else {
+                    list.sort_unstable_by_key(|e| e.0);
+                    v4.push(list);
                 }
+            }
+            if version == 4 {
+                shells_v4 = Some(v4);
             }
             steps = Some(Box::new(st));
         }
@@ -690,11 +711,13 @@ impl<const D: usize> Simulation<D> {
         if !r.at_end() {
             return bad("bytes after the end of the state");
         }
-        // The grid as the simulation built it: cells as wide as the largest diameter or the
-        // outermost step.
-        let width = steps
-            .as_ref()
-            .map_or(max_diameter, |s| max_diameter.max(s.range));
+        // The grid as the simulation built it: cells as wide as the largest diameter, or the
+        // lists' radius (version 4: the outermost step).
+        let width = match (&steps, &shells_v4) {
+            (None, _) => max_diameter,
+            (Some(s), None) => s.list_radius,
+            (Some(s), Some(_)) => max_diameter.max(s.range),
+        };
         let mut grid = CellGrid::new(&sim_box, n, if n == 0 { 1.0 } else { width })
             .map_err(|e| Error::Checkpoint(format!("cell grid: {e}")))?;
         grid.restore(head, next, prev, cell)
@@ -744,6 +767,7 @@ impl<const D: usize> Simulation<D> {
             bath,
         };
         sim.stats.step = step_events;
+        sim.stats.neighbour_list = relists;
         sim.stats.thermostat = redraws;
         sim.set_portable_loop(false);
         // The yardstick is kept from the start (or the last change of velocities), and energy
@@ -765,20 +789,46 @@ impl<const D: usize> Simulation<D> {
         if let Some(&i) = sim.discs_outside(super::OVERLAP_TOLERANCE).first() {
             return bad(format!("disc {i} is outside the box"));
         }
+        // A version-4 stepped run goes on from its discs at the last event time, with their
+        // lists made there and every event predicted afresh.
+        if let Some(shells) = shells_v4 {
+            sim.assign_shells(Some(&shells));
+            sim.schedule_all();
+        }
         // A disc is in the cell it is filed in (at its own clock; it stays there until its
         // event, which is no later than its cell exit, below): the scans of its neighbours
         // would miss it in any other. Crossings leave a disc on its new cell's edge, to within
-        // the rounding of a position at an absolute time.
+        // the rounding of a position at an absolute time. Under a stepped potential a disc is
+        // filed by its list's centre, which is in the box, and is no farther from it than half
+        // the skin (its event is no later than its departure, below); its list holds every
+        // disc whose centre is near.
         let longest = sim.sim_box.lengths.iter().copied().fold(0.0, f64::max);
         for (i, b) in sim.body.iter().enumerate() {
             let slack = 1e-9 * max_diameter
                 + super::OVERLAP_ROUNDING * (longest + b.vel.norm2().sqrt() * b.time.abs());
-            if !sim.grid.holds(i, b.pos, slack) {
+            let (filed, leash) = match &sim.steps {
+                Some(st) => (st.centre[i], Some((st.centre[i], st.leash))),
+                None => (b.pos, None),
+            };
+            if !sim.grid.holds(i, filed, slack) {
                 return bad(format!(
                     "disc {i} is filed in cell {:?}, which does not hold it",
                     sim.grid.cell_of(i)
                 ));
             }
+            if let Some((c, leash)) = leash {
+                if (b.pos - c).norm2().sqrt() > leash + slack
+                    || (0..D).any(|a| {
+                        sim.sim_box.is_periodic(a)
+                            && !(0.0..=sim.sim_box.lengths[a]).contains(&c[a])
+                    })
+                {
+                    return bad(format!("disc {i}: list centre {c:?}, where it is not"));
+                }
+            }
+        }
+        if let Some(fault) = sim.list_fault() {
+            return bad(fault);
         }
         // A disc's event is the earliest it has, so never later than its cell exit, wall or
         // barrier contact, which follow from its own motion alone (computed here exactly as
@@ -799,6 +849,7 @@ impl<const D: usize> Simulation<D> {
                 let own_kind = matches!(
                     pending,
                     Pending::Cell { .. }
+                        | Pending::Relist
                         | Pending::Wall { .. }
                         | Pending::Barrier { .. }
                         | Pending::Thermostat

@@ -76,13 +76,21 @@ impl<const D: usize> Simulation<D> {
     pub(super) fn own_event(&self, i: usize) -> (f64, Pending) {
         let bi = self.body[i];
         let (mut best_t, mut best) = (f64::INFINITY, Pending::Nothing);
-        let (dt, axis, high) = self.grid.exit_time(i, bi.pos, bi.vel);
-        if dt != f64::INFINITY {
-            best_t = bi.time + dt;
-            best = Pending::Cell {
-                axis: axis as u8,
-                side: if high { Side::High } else { Side::Low },
-            };
+        if let Some(steps) = self.steps.as_deref() {
+            let dt = super::steps::leash_time(steps, bi.pos, bi.vel, i);
+            if dt != f64::INFINITY {
+                best_t = bi.time + dt;
+                best = Pending::Relist;
+            }
+        } else {
+            let (dt, axis, high) = self.grid.exit_time(i, bi.pos, bi.vel);
+            if dt != f64::INFINITY {
+                best_t = bi.time + dt;
+                best = Pending::Cell {
+                    axis: axis as u8,
+                    side: if high { Side::High } else { Side::Low },
+                };
+            }
         }
         for a in 0..D {
             if self.sim_box.is_periodic(a) {
@@ -136,28 +144,41 @@ impl<const D: usize> Simulation<D> {
     fn predict_with<const FAR: bool, const EXTRAS: bool>(&mut self, i: usize) {
         let t0 = self.event_time;
         self.body[i].advance_to(t0);
-        let bi = self.body[i];
+        // The fields read, not a copy of the record: the copy, just after `advance_to` wrote
+        // the record, was made with wide loads that the stores could not forward to.
+        let (pos, vel, radius) = {
+            let b = &self.body[i];
+            (b.pos, b.vel, b.radius)
+        };
         let mut best_t = f64::INFINITY;
         let mut best = Pending::Nothing;
-        let (dt, axis, high) = self.grid.exit_time(i, bi.pos, bi.vel);
-        if dt != f64::INFINITY {
-            let side = if high { Side::High } else { Side::Low };
-            best_t = t0 + dt;
-            best = Pending::Cell {
-                axis: axis as u8,
-                side,
-            };
+        if EXTRAS && self.steps.is_some() {
+            // Filed by its list's centre, a disc under a stepped potential has no cell
+            // crossings: its list is made again when it strays half the skin from there.
+            let steps = self.steps.as_deref().expect("a stepped simulation");
+            let dt = super::steps::leash_time(steps, pos, vel, i);
+            if dt != f64::INFINITY {
+                best_t = t0 + dt;
+                best = Pending::Relist;
+            }
+        } else {
+            let (dt, axis, high) = self.grid.exit_time(i, pos, vel);
+            if dt != f64::INFINITY {
+                let side = if high { Side::High } else { Side::Low };
+                best_t = t0 + dt;
+                best = Pending::Cell {
+                    axis: axis as u8,
+                    side,
+                };
+            }
         }
         for a in 0..D {
             if self.sim_box.is_periodic(a) {
                 continue;
             }
-            if let Some((dt, side)) = interval_exit(
-                bi.pos[a],
-                bi.vel[a],
-                bi.radius,
-                self.sim_box.lengths[a] - bi.radius,
-            ) {
+            if let Some((dt, side)) =
+                interval_exit(pos[a], vel[a], radius, self.sim_box.lengths[a] - radius)
+            {
                 if t0 + dt < best_t {
                     best_t = t0 + dt;
                     best = Pending::Wall {
@@ -177,7 +198,13 @@ impl<const D: usize> Simulation<D> {
         // branches (whether a pair meets is a coin toss for the branch predictor); only the
         // kept ones pay for the square root and the division (BENCHMARKS.md).
         let mut nearest = Nearest::new(t0, best_t, &mut self.kept);
-        let c = self.grid.cell_of(i);
+        // The cell is read early, as the hard-core scans need it; a stepped potential's scan
+        // reads the disc's neighbour list instead.
+        let c = if EXTRAS && self.steps.is_some() {
+            [0; D]
+        } else {
+            self.grid.cell_of(i)
+        };
         #[cfg(target_arch = "x86_64")]
         let simd = D == 3 && !FAR && self.v3;
         #[cfg(not(target_arch = "x86_64"))]
@@ -185,7 +212,6 @@ impl<const D: usize> Simulation<D> {
         if EXTRAS && self.steps.is_some() {
             let steps = self.steps.as_deref().expect("a stepped simulation");
             super::steps::scan_stepped::<D, FAR>(
-                &self.grid,
                 &self.body,
                 &self.species,
                 steps,
@@ -213,7 +239,9 @@ impl<const D: usize> Simulation<D> {
             let mut scan = Candidates::<D, FAR> {
                 body: &self.body,
                 t0,
-                own: bi,
+                pos,
+                vel,
+                radius,
                 nearest,
             };
             if D == 3 {
@@ -252,25 +280,27 @@ impl<const D: usize> Simulation<D> {
     }
 }
 
-/// A prediction's scan of the discs around the disc predicted (`own`, advanced to `t0`):
-/// each candidate's contact terms go to [`Nearest`].
+/// A prediction's scan of the discs around the disc predicted (at `pos` at `t0`, moving at
+/// `vel`): each candidate's contact terms go to [`Nearest`].
 struct Candidates<'a, const D: usize, const FAR: bool> {
     body: &'a [Body<D>],
     t0: f64,
-    own: Body<D>,
+    pos: Vector<D>,
+    vel: Vector<D>,
+    radius: f64,
     nearest: Nearest<'a>,
 }
 
 impl<const D: usize, const FAR: bool> Visit<D> for &mut Candidates<'_, D, FAR> {
     #[inline(always)]
     fn visit(&mut self, j: usize, shift: Vector<D>) {
-        let (bi, bj) = (&self.own, &self.body[j]);
+        let bj = &self.body[j];
         let pj = bj.position_at(self.t0) + shift;
         // Disc `i` itself is at `dr = 0` (or a whole box length: a periodic image), with
         // `dv = 0`, which never meets (`b = 0`): no test needed.
         self.nearest.offer(
             j,
-            contact_terms::<D, FAR>(pj - bi.pos, bj.vel - bi.vel, bi.radius + bj.radius),
+            contact_terms::<D, FAR>(pj - self.pos, bj.vel - self.vel, self.radius + bj.radius),
         );
     }
 }

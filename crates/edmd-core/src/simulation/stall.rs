@@ -262,6 +262,7 @@ impl<const D: usize> Simulation<D> {
                 EventKind::Wall { i, .. }
                 | EventKind::Barrier { i, .. }
                 | EventKind::Thermostat { i }
+                | EventKind::NeighbourList { i }
                 | EventKind::CellCrossing { i, .. } => discs.push(i),
             }
             discs.extend(self.last_cluster.iter().copied());

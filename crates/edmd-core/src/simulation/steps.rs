@@ -1,5 +1,18 @@
-//! Stepped pair potentials in the event loop: each pair's shell, the predictions of step
-//! events, and what happens at a step.
+//! Stepped pair potentials in the event loop: each pair's shell, the neighbour lists, the
+//! predictions of step events, and what happens at a step.
+//!
+//! # Neighbour lists
+//! A pair reaches as far as its outermost step, so cells wide enough for the grid's `3^D`
+//! scan would hand each prediction several times the candidates hard cores have (66 against
+//! 16 for the square-well fluid of BENCHMARKS.md). A disc's candidates are instead its
+//! neighbour list: every disc whose list centre (where its list was last made) is within the
+//! reach plus a skin of its own centre, and every disc it shares a shell with. A disc's list is
+//! made again ([`Simulation::relist`]) when the disc has moved half the skin from its centre, an
+//! event of its own ([`leash_time`]), so two discs that can come within reach before either list
+//! is made again are in both lists. The grid files each disc by its centre, which moves only
+//! then, so stepped runs have no cell crossings; the grid serves to make lists. Lists are kept
+//! in order and symmetric; a list made again changes only the lists of the discs that come or
+//! go, and a pair inside a step stays listed whatever its centres.
 //!
 //! # The shell of a pair is a state, never a distance
 //! A pair's shell (how many of its steps it is inside, 0 outside them all) is kept for every
@@ -24,10 +37,17 @@
 //! conserved to rounding.
 
 use crate::events::{EventKind, EventRecord, StepHit};
-use crate::math::Vector;
-use crate::state::{Disc, Potential};
+use crate::math::{select, Vector};
+use crate::state::{Disc, Potential, SimBox};
 
 use super::Simulation;
+
+/// The skin of the neighbour lists, in largest diameters: a disc's list holds the discs
+/// within the pair's reach plus this, and is made again when the disc has moved half of it.
+/// A thinner skin gives shorter lists and more of them: for the square-well fluid of
+/// BENCHMARKS.md, 0.5 to 0.7 ran fastest of 0.2 to 1 (0.2 and 1 a quarter slower at N = 10^4),
+/// and 0.5 keeps the lists in the smallest allocations.
+pub(super) const SKIN: f64 = 0.5;
 
 /// One pair of species' steps, outermost first, as the loop reads them.
 #[derive(Clone, Debug, PartialEq)]
@@ -38,9 +58,9 @@ pub(super) struct Table {
     pub(super) e: Vec<f64>,
 }
 
-/// The stepped potential of a simulation and the shells of its pairs.
+/// The stepped potential of a simulation, its neighbour lists and the shells of its pairs.
 #[derive(Clone, Debug)]
-pub(super) struct Steps {
+pub(super) struct Steps<const D: usize> {
     /// The potential as given.
     pub(super) potential: Potential,
     /// Species are below this.
@@ -48,29 +68,47 @@ pub(super) struct Steps {
     /// Per pair of species (`a * species + b`), its table in `tables` plus one (0: none).
     index: Vec<u32>,
     tables: Vec<Table>,
-    /// Per disc, the discs it shares a shell above 0 with, and the shell (both discs of a
-    /// pair list it).
-    pub(super) shells: Vec<Vec<(u32, u8)>>,
+    /// Per pair of species, the outermost step's radius (0 without steps): where a pair
+    /// outside every step has its next event, or its hard core if that is farther.
+    outer: Vec<f64>,
+    /// Per disc, its neighbours in increasing order, each with the pair's shell (0 outside
+    /// every step): every disc whose list centre is within [`Self::list_radius`] of its own,
+    /// and every disc it shares a shell above 0 with. Both discs of a pair list it.
+    pub(super) near: Vec<Vec<(u32, u8)>>,
+    /// Per disc, where its list was made (inside the box on periodic axes). The grid files
+    /// each disc by this, not by where it is.
+    pub(super) centre: Vec<Vector<D>>,
+    /// A disc's list is made again when it is this far from its centre: half the skin.
+    pub(super) leash: f64,
+    /// Centres nearer than this are neighbours: the reach of a pair (the outermost step or
+    /// the largest contact distance) and the skin, with an allowance for rounding.
+    pub(super) list_radius: f64,
     /// The largest step radius: the range of the interaction.
     pub(super) range: f64,
+    /// Box lengths, and half of them on periodic axes (`+inf` on walled ones), for the
+    /// nearest image of a neighbour.
+    lengths: [f64; D],
+    half: [f64; D],
+    /// A spare list, so that making a list again allocates nothing.
+    spare: Vec<(u32, u8)>,
+}
+
+/// Where `j` is in a sorted neighbour list.
+#[inline(always)]
+fn find(list: &[(u32, u8)], j: u32) -> Result<usize, usize> {
+    list.binary_search_by_key(&j, |e| e.0)
 }
 
 /// The shell of the pair (`list` is one disc's list, `j` the other disc).
 #[inline(always)]
 pub(super) fn shell_in(list: &[(u32, u8)], j: u32) -> u8 {
-    let mut s = 0;
-    for &(k, sh) in list {
-        if k == j {
-            s = sh;
-        }
-    }
-    s
+    find(list, j).map_or(0, |k| list[k].1)
 }
 
 /// Time from now until a pair inside distance `r` (relative position `dr`, velocity `dv`)
 /// reaches it moving outward: the larger root of `|dr + dv t| = r`, in the form that keeps
 /// its digits for either sign of `dr . dv`. A pair found outside (by rounding) and receding
-/// leaves at once; `+inf` if it does not move.
+/// leaves at once; `+inf` if it does not move. (Also a disc's departure from its list centre.)
 #[inline(always)]
 pub(super) fn exit_time<const D: usize>(dr: Vector<D>, dv: Vector<D>, r: f64) -> f64 {
     let a = dv.norm2();
@@ -90,12 +128,14 @@ pub(super) fn exit_time<const D: usize>(dr: Vector<D>, dv: Vector<D>, r: f64) ->
     }
 }
 
-impl Steps {
-    /// The tables of `potential` for these discs; errors if a step lies inside the hard core of
-    /// discs it applies to or names a species no disc has.
-    pub(super) fn new<const D: usize>(
+impl<const D: usize> Steps<D> {
+    /// The tables of `potential` for these discs in this box; errors if a step lies inside
+    /// the hard core of discs it applies to or names a species no disc has. The lists are
+    /// empty until [`Simulation::assign_shells`] makes them.
+    pub(super) fn new(
         potential: &Potential,
         discs: &[Disc<D>],
+        sim_box: &SimBox<D>,
     ) -> Result<Self, crate::Error> {
         potential.validate()?;
         let species = discs
@@ -109,6 +149,7 @@ impl Steps {
             *l = l.max(d.radius);
         }
         let mut index = vec![0u32; species * species];
+        let mut outer = vec![0.0f64; species * species];
         let mut tables = Vec::new();
         let mut range = 0.0f64;
         for p in &potential.pairs {
@@ -138,15 +179,50 @@ impl Steps {
             let k = tables.len() as u32;
             index[a * species + b] = k;
             index[b * species + a] = k;
+            let r = p.steps[p.steps.len() - 1].radius;
+            outer[a * species + b] = r;
+            outer[b * species + a] = r;
             range = range.max(p.steps[p.steps.len() - 1].radius);
         }
+        // The skin: `SKIN` diameters, or less where a periodic axis has room for only three
+        // cells of the reach and a thinner skin (the grid refuses a box without room for a
+        // thousandth of the reach). The list radius is the reach and the skin, and a rounding
+        // allowance `EPS` that the cells' width must include too.
+        const EPS: f64 = 1e-9;
+        let max_diameter = discs.iter().map(|d| 2.0 * d.radius).fold(0.0, f64::max);
+        let reach = range.max(max_diameter);
+        let mut skin = SKIN
+            * if max_diameter > 0.0 {
+                max_diameter
+            } else {
+                reach
+            };
+        for a in 0..D {
+            if sim_box.is_periodic(a) {
+                skin = skin.min(sim_box.lengths[a] / (3.0 * (1.0 + 2.0 * EPS)) - reach);
+            }
+        }
+        let skin = skin.max(1e-3 * reach);
         Ok(Steps {
             potential: potential.clone(),
             species,
             index,
             tables,
-            shells: vec![Vec::new(); discs.len()],
+            outer,
+            near: vec![Vec::new(); discs.len()],
+            centre: vec![Vector::ZERO; discs.len()],
+            leash: 0.5 * skin,
+            list_radius: (reach + skin) * (1.0 + EPS),
             range,
+            lengths: sim_box.lengths,
+            half: std::array::from_fn(|a| {
+                if sim_box.is_periodic(a) {
+                    0.5 * sim_box.lengths[a]
+                } else {
+                    f64::INFINITY
+                }
+            }),
+            spare: Vec::new(),
         })
     }
 
@@ -157,17 +233,25 @@ impl Steps {
         (k != 0).then(|| &self.tables[k as usize - 1])
     }
 
-    /// Sets the shell of the pair `i`, `j` (0 removes it from both lists).
+    /// The nearest image of a displacement between neighbours (at most the list radius and
+    /// the skin apart, under a third of a periodic box), without branches.
+    #[inline(always)]
+    pub(super) fn nearest_image(&self, mut d: Vector<D>) -> Vector<D> {
+        for a in 0..D {
+            let l = self.lengths[a];
+            let x = d[a];
+            d[a] = select(x > self.half[a], x - l, select(x < -self.half[a], x + l, x));
+        }
+        d
+    }
+
+    /// Sets the shell of the pair `i`, `j` (0: outside every step, still neighbours).
     pub(super) fn set_shell(&mut self, i: usize, j: usize, s: u8) {
         for (x, y) in [(i, j), (j, i)] {
-            let list = &mut self.shells[x];
-            match list.iter().position(|e| e.0 == y as u32) {
-                Some(k) if s == 0 => {
-                    list.swap_remove(k);
-                }
-                Some(k) => list[k].1 = s,
-                None if s != 0 => list.push((y as u32, s)),
-                None => {}
+            let list = &mut self.near[x];
+            match find(list, y as u32) {
+                Ok(k) => list[k].1 = s,
+                Err(k) => list.insert(k, (y as u32, s)),
             }
         }
     }
@@ -176,6 +260,13 @@ impl Steps {
     pub(super) fn energy(table: &Table, s: u8) -> f64 {
         table.e[..s as usize].iter().sum()
     }
+
+    /// Bytes held by the lists.
+    pub(super) fn memory_bytes(&self) -> usize {
+        self.near.capacity() * size_of::<Vec<(u32, u8)>>()
+            + self.near.iter().map(|l| l.capacity() * 8).sum::<usize>()
+            + self.centre.capacity() * size_of::<Vector<D>>()
+    }
 }
 
 /// Which shell a pair at distance `r` is in: how many of the (decreasing) radii exceed it.
@@ -183,109 +274,180 @@ pub(super) fn shell_at(table: &Table, r: f64) -> u8 {
     table.r.iter().take_while(|&&x| r < x).count() as u8
 }
 
-/// Disc `i`'s earliest pair event among the discs around it (`bi`, advanced to `t0`), for a
-/// stepped potential: for each candidate, the arrival at its shell's inner edge if it gets
-/// there, else its departure through the outer edge. Most candidates are outside every step
-/// (shell 0), whose only event is the arrival at the outermost one: their contact terms go to
-/// `nearest` as a hard core's do, the roots worked out only for those that meet; the few inside
-/// a step give their times directly.
+/// Disc `i`'s earliest pair event among its neighbours (`i` advanced to `t0`), for a stepped
+/// potential: for each, the arrival at its shell's inner edge if it gets there, else its
+/// departure through the outer edge. Most neighbours are outside every step (shell 0), whose
+/// only event is the arrival at the outermost one: their contact terms go to `nearest` as a
+/// hard core's do, the roots worked out only for those that meet; those inside a step give
+/// their times directly.
 #[inline(always)]
 pub(super) fn scan_stepped<const D: usize, const FAR: bool>(
-    grid: &crate::cells::CellGrid<D>,
     body: &[super::Body<D>],
     species: &[u16],
-    steps: &Steps,
+    steps: &Steps<D>,
     i: usize,
     t0: f64,
     nearest: &mut super::predict::Nearest<'_>,
 ) {
-    let mut scan = SteppedCandidates::<D, FAR> {
-        body,
-        species,
-        steps,
-        own: body[i],
-        own_species: species[i],
-        list: &steps.shells[i][..],
-        t0,
-        nearest,
-    };
-    grid.visit_near(grid.cell_of(i), &mut scan);
-}
-
-/// [`scan_stepped`]'s visit of one candidate.
-struct SteppedCandidates<'a, 'n, const D: usize, const FAR: bool> {
-    body: &'a [super::Body<D>],
-    species: &'a [u16],
-    steps: &'a Steps,
-    own: super::Body<D>,
-    own_species: u16,
-    list: &'a [(u32, u8)],
-    t0: f64,
-    nearest: &'a mut super::predict::Nearest<'n>,
-}
-
-impl<const D: usize, const FAR: bool> crate::cells::Visit<D>
-    for &mut SteppedCandidates<'_, '_, D, FAR>
-{
-    #[inline(always)]
-    fn visit(&mut self, j: usize, shift: Vector<D>) {
-        let (bi, bj) = (&self.own, &self.body[j]);
-        let dr = bj.position_at(self.t0) + shift - bi.pos;
-        let dv = bj.vel - bi.vel;
-        let sigma = bi.radius + bj.radius;
-        // Disc `i` itself (or its periodic image) has dv = 0, which never meets, and shell 0.
-        let table = self.steps.table(self.own_species, self.species[j]);
-        let s = if table.is_some() {
-            shell_in(self.list, j as u32) as usize
-        } else {
-            0
-        };
-        match table {
-            Some(table) if s > 0 => {
-                let inner = if s < table.r.len() { table.r[s] } else { sigma };
-                let terms = crate::predict::contact_terms::<D, FAR>(dr, dv, inner);
-                let t = if terms.meets() {
-                    self.t0 + crate::predict::contact_root(terms)
-                } else {
-                    self.t0 + exit_time(dr, dv, table.r[s - 1])
-                };
-                self.nearest.take(t, j as u32);
-            }
-            _ => {
-                let reach = table.map_or(sigma, |t| t.r[0]);
-                self.nearest
-                    .offer(j, crate::predict::contact_terms::<D, FAR>(dr, dv, reach));
-            }
+    // The fields, not a copy of the record (see `predict_with`).
+    let (pos, vel, radius) = (body[i].pos, body[i].vel, body[i].radius);
+    let own_species = species[i];
+    let row = own_species as usize * steps.species;
+    for &(j, s) in &steps.near[i] {
+        let bj = &body[j as usize];
+        let dr = steps.nearest_image(bj.position_at(t0) - pos);
+        let dv = bj.vel - vel;
+        let sigma = radius + bj.radius;
+        if s == 0 {
+            let reach = steps.outer[row + species[j as usize] as usize].max(sigma);
+            nearest.offer(
+                j as usize,
+                crate::predict::contact_terms::<D, FAR>(dr, dv, reach),
+            );
+            continue;
         }
+        // Only pairs with steps are ever in a shell above 0.
+        let Some(table) = steps.table(own_species, species[j as usize]) else {
+            continue;
+        };
+        let s = s as usize;
+        let inner = if s < table.r.len() { table.r[s] } else { sigma };
+        let terms = crate::predict::contact_terms::<D, FAR>(dr, dv, inner);
+        let t = if terms.meets() {
+            t0 + crate::predict::contact_root(terms)
+        } else {
+            t0 + exit_time(dr, dv, table.r[s - 1])
+        };
+        nearest.take(t, j);
     }
 }
 
 impl<const D: usize> Simulation<D> {
-    /// Files every pair inside a step in its shell, from the distances (at construction).
-    pub(super) fn assign_shells(&mut self) {
-        let Some(steps) = self.steps.as_mut() else {
+    /// Makes every disc's neighbour list at its position now, each pair inside a step filed
+    /// in the shell its distance puts it in, or (`keep`) in the shell given there: the pairs
+    /// of `keep[i]` with discs above `i`. Files the discs in the grid by their centres.
+    pub(super) fn assign_shells(&mut self, keep: Option<&[Vec<(u32, u8)>]>) {
+        let Some(steps) = self.steps.as_deref_mut() else {
             return;
         };
         let now = self.event_time;
-        let mut found = Vec::new();
-        for i in 0..self.body.len() {
-            let pi = self.body[i].position_at(now);
-            self.grid.for_each_near(self.grid.cell_of(i), |j, shift| {
+        let n = self.body.len();
+        for i in 0..n {
+            let b = &mut self.body[i];
+            b.advance_to(now);
+            self.image[i] = wrap_into(&mut b.pos, &self.sim_box, self.image[i]);
+            steps.centre[i] = b.pos;
+            steps.near[i].clear();
+        }
+        self.grid.clear();
+        for i in 0..n {
+            let c = self.grid.coord_of(steps.centre[i]);
+            self.grid.insert(i, c);
+        }
+        let r2 = steps.list_radius * steps.list_radius;
+        for i in 0..n {
+            let ci = steps.centre[i];
+            let mut found = Vec::new();
+            self.grid.for_each_near(self.grid.cell_of(i), |j, _| {
                 if j <= i {
                     return;
                 }
-                let Some(table) = steps.table(self.species[i], self.species[j]) else {
+                let dr = steps.nearest_image(steps.centre[j] - ci);
+                let r = dr.norm2();
+                if r >= r2 {
                     return;
-                };
-                let r = (self.body[j].position_at(now) + shift - pi).norm2().sqrt();
-                let s = shell_at(table, r);
-                if s > 0 {
-                    found.push((i, j, s));
                 }
+                let s = match keep {
+                    Some(k) => shell_in(&k[i], j as u32),
+                    None => steps
+                        .table(self.species[i], self.species[j])
+                        .map_or(0, |t| shell_at(t, r.sqrt())),
+                };
+                found.push((j, s));
             });
+            for (j, s) in found {
+                steps.near[i].push((j as u32, s));
+                steps.near[j].push((i as u32, s));
+            }
         }
-        for (i, j, s) in found {
-            steps.set_shell(i, j, s);
+        for list in &mut steps.near {
+            list.sort_unstable_by_key(|e| e.0);
+        }
+        // Pairs a caller keeps in a shell stay neighbours whatever their centres.
+        if let Some(k) = keep {
+            for (i, list) in k.iter().enumerate() {
+                for &(j, s) in list {
+                    if s > 0 {
+                        steps.set_shell(i, j as usize, s);
+                    }
+                }
+            }
+        }
+    }
+
+    /// Makes disc `i`'s neighbour list again where it is at `t`, half a skin from where it
+    /// was made: a bookkeeping event that changes no velocity. Pairs inside a step keep their
+    /// shells and stay listed; pairs that come within the list radius join as shell 0.
+    #[inline(never)]
+    pub(super) fn relist(&mut self, i: usize, t: f64) -> EventRecord<D> {
+        let b = &mut self.body[i];
+        b.advance_to(t);
+        self.image[i] = wrap_into(&mut b.pos, &self.sim_box, self.image[i]);
+        let p = b.pos;
+        let steps = self.steps.as_deref_mut().expect("a stepped simulation");
+        steps.centre[i] = p;
+        let c = self.grid.coord_of(p);
+        if c != self.grid.cell_of(i) {
+            self.grid.remove(i);
+            self.grid.insert(i, c);
+        }
+        let mut new = std::mem::take(&mut steps.spare);
+        new.clear();
+        let r2 = steps.list_radius * steps.list_radius;
+        self.grid.for_each_near(c, |j, _| {
+            if j != i && steps.nearest_image(steps.centre[j] - p).norm2() < r2 {
+                new.push((j as u32, 0));
+            }
+        });
+        new.sort_unstable_by_key(|e| e.0);
+        // The old and new lists side by side (both in order): a pair in both keeps its shell
+        // and its place in the other disc's list; a pair inside a step stays whatever its
+        // centres; only the pairs that come or go touch the other disc's list.
+        let old = std::mem::take(&mut steps.near[i]);
+        let (mut a, mut b) = (0, 0);
+        while a < old.len() || b < new.len() {
+            let (jo, so) = old.get(a).copied().unwrap_or((u32::MAX, 0));
+            let jn = new.get(b).map_or(u32::MAX, |e| e.0);
+            if jo == jn {
+                new[b].1 = so;
+                a += 1;
+                b += 1;
+            } else if jo < jn {
+                if so > 0 {
+                    new.insert(b, (jo, so));
+                    b += 1;
+                } else {
+                    let list = &mut steps.near[jo as usize];
+                    if let Ok(k) = find(list, i as u32) {
+                        list.remove(k);
+                    }
+                }
+                a += 1;
+            } else {
+                let list = &mut steps.near[jn as usize];
+                if let Err(k) = find(list, i as u32) {
+                    list.insert(k, (i as u32, 0));
+                }
+                b += 1;
+            }
+        }
+        steps.near[i] = new;
+        steps.spare = old;
+        self.stats.neighbour_list = self.stats.neighbour_list.wrapping_add(1);
+        EventRecord {
+            time: t,
+            kind: EventKind::NeighbourList { i },
+            impulse: Vector::ZERO,
         }
     }
 
@@ -302,63 +464,54 @@ impl<const D: usize> Simulation<D> {
     /// The potential energy: the sum over pairs of the energy of their shell (0 without a
     /// stepped potential). Kinetic plus potential energy is conserved.
     pub fn potential_energy(&self) -> f64 {
-        let Some(steps) = &self.steps else {
-            return 0.0;
-        };
-        let mut u = 0.0;
-        for (i, list) in steps.shells.iter().enumerate() {
-            for &(j, s) in list {
-                if (j as usize) > i {
-                    if let Some(t) = steps.table(self.species[i], self.species[j as usize]) {
-                        u += Steps::energy(t, s);
-                    }
-                }
-            }
-        }
-        u
+        self.shells()
+            .into_iter()
+            .map(|(i, j, s)| self.pair_energy(i, j, s))
+            .sum()
+    }
+
+    /// The energy of the pair `i`, `j` in shell `s`.
+    fn pair_energy(&self, i: usize, j: usize, s: u8) -> f64 {
+        self.steps
+            .as_ref()
+            .and_then(|st| st.table(self.species[i], self.species[j]))
+            .map_or(0.0, |t| Steps::<D>::energy(t, s))
     }
 
     /// The potential energy of the pairs disc `i` is in (each pair's whole energy: the sum
     /// over all discs is twice [`Self::potential_energy`]). For colouring discs by energy.
     pub fn potential_energy_of(&self, i: usize) -> f64 {
-        let Some(steps) = &self.steps else {
-            return 0.0;
-        };
-        steps.shells[i]
-            .iter()
-            .filter_map(|&(j, s)| {
-                steps
-                    .table(self.species[i], self.species[j as usize])
-                    .map(|t| Steps::energy(t, s))
-            })
+        self.partners_of(i)
+            .into_iter()
+            .map(|(j, s)| self.pair_energy(i, j, s))
             .sum()
     }
 
     /// The discs disc `i` shares a shell above 0 with, and the shell (for drawing bonds).
     pub fn partners_of(&self, i: usize) -> Vec<(usize, u8)> {
         self.steps.as_ref().map_or_else(Vec::new, |s| {
-            s.shells[i]
+            s.near[i]
                 .iter()
+                .filter(|e| e.1 > 0)
                 .map(|&(j, sh)| (j as usize, sh))
                 .collect()
         })
     }
 
-    /// The pairs inside at least one step, each once as `(i, j, shell)` with `i < j`; the
-    /// shell counts the steps the pair is inside.
+    /// The pairs inside at least one step, each once as `(i, j, shell)` with `i < j`, in
+    /// order; the shell counts the steps the pair is inside.
     pub fn shells(&self) -> Vec<(usize, usize, u8)> {
         let Some(steps) = &self.steps else {
             return Vec::new();
         };
         let mut out = Vec::new();
-        for (i, list) in steps.shells.iter().enumerate() {
+        for (i, list) in steps.near.iter().enumerate() {
             for &(j, s) in list {
-                if (j as usize) > i {
+                if (j as usize) > i && s > 0 {
                     out.push((i, j as usize, s));
                 }
             }
         }
-        out.sort_unstable();
         out
     }
 
@@ -373,15 +526,16 @@ impl<const D: usize> Simulation<D> {
         let mut out = Vec::new();
         for i in 0..self.body.len() {
             let pi = self.body[i].position_at(now);
-            let list = &steps.shells[i];
-            self.grid.for_each_near(self.grid.cell_of(i), |j, shift| {
+            let list = &steps.near[i];
+            self.grid.for_each_near(self.grid.cell_of(i), |j, _| {
                 if j <= i {
                     return;
                 }
                 let Some(table) = steps.table(self.species[i], self.species[j]) else {
                     return;
                 };
-                let r = (self.body[j].position_at(now) + shift - pi).norm2().sqrt();
+                let dr = steps.nearest_image(self.body[j].position_at(now) - pi);
+                let r = dr.norm2().sqrt();
                 let kept = shell_in(list, j as u32);
                 let lo = shell_at(table, r * (1.0 + tol));
                 let hi = shell_at(table, r * (1.0 - tol));
@@ -391,6 +545,47 @@ impl<const D: usize> Simulation<D> {
             });
         }
         out
+    }
+
+    /// Pairs that should be neighbours (their centres within the list radius, or a shell
+    /// above 0) and are not both listed so, or are listed with shells that disagree; every
+    /// disc's list in order. For checking checkpoints. `None` in every honest state.
+    pub(super) fn list_fault(&self) -> Option<String> {
+        let steps = self.steps.as_ref()?;
+        let n = self.body.len();
+        let r2 = steps.list_radius * steps.list_radius;
+        for (i, list) in steps.near.iter().enumerate() {
+            for (k, &(j, s)) in list.iter().enumerate() {
+                let ju = j as usize;
+                if ju >= n || ju == i || (k > 0 && list[k - 1].0 >= j) {
+                    return Some(format!("disc {i}: neighbour list out of order at {j}"));
+                }
+                let m = steps
+                    .table(self.species[i], self.species[ju])
+                    .map_or(0, |t| t.r.len());
+                if s as usize > m {
+                    return Some(format!("disc {i}: shell {s} with disc {j}"));
+                }
+                if find(&steps.near[ju], i as u32).map(|x| steps.near[ju][x].1) != Ok(s) {
+                    return Some(format!("discs {i} and {j}: lists that disagree"));
+                }
+            }
+            let ci = steps.centre[i];
+            let mut missing = None;
+            self.grid.for_each_near(self.grid.cell_of(i), |j, _| {
+                if j != i
+                    && missing.is_none()
+                    && steps.nearest_image(steps.centre[j] - ci).norm2() < r2
+                    && find(list, j as u32).is_err()
+                {
+                    missing = Some(j);
+                }
+            });
+            if let Some(j) = missing {
+                return Some(format!("discs {i} and {j}: neighbours not listed"));
+            }
+        }
+        None
     }
 
     /// The pair event of `i` and `j` at `t` under a stepped potential: a hard-core collision,
@@ -409,11 +604,9 @@ impl<const D: usize> Simulation<D> {
         let Some(table) = steps.table(self.species[i], self.species[j]) else {
             return self.collide(i, j, t);
         };
-        let s = shell_in(&steps.shells[i], j as u32) as usize;
+        let s = shell_in(&steps.near[i], j as u32) as usize;
         let m = table.r.len();
-        let dr = self
-            .sim_box
-            .minimum_image(self.body[j].pos - self.body[i].pos);
+        let dr = steps.nearest_image(self.body[j].pos - self.body[i].pos);
         let r2 = dr.norm2();
         let sigma = self.body[i].radius + self.body[j].radius;
         let inner = if s < m { table.r[s] } else { sigma };
@@ -485,9 +678,115 @@ impl<const D: usize> Simulation<D> {
     }
 }
 
+/// Time until disc `i`, at `pos` moving at `vel`, strays half the skin from its list's centre
+/// (`+inf` if it stands still). The position and velocity by value: a reference to the disc's
+/// record kept the prediction from reading only the fields it needs.
+#[inline(always)]
+pub(super) fn leash_time<const D: usize>(
+    steps: &Steps<D>,
+    pos: Vector<D>,
+    vel: Vector<D>,
+    i: usize,
+) -> f64 {
+    exit_time(pos - steps.centre[i], vel, steps.leash)
+}
+
+/// Moves `p` into the box on periodic axes, returning the disc's image counts after the move
+/// (a position that leaves through the low side is shifted up by a box length, and its count
+/// of images crossed goes down by one, as a cell crossing does).
+fn wrap_into<const D: usize>(
+    p: &mut Vector<D>,
+    sim_box: &SimBox<D>,
+    mut image: [i32; D],
+) -> [i32; D] {
+    for a in 0..D {
+        if !sim_box.is_periodic(a) {
+            continue;
+        }
+        let l = sim_box.lengths[a];
+        if p[a] < 0.0 {
+            p[a] += l;
+            image[a] = image[a].wrapping_sub(1);
+        } else if p[a] >= l {
+            p[a] -= l;
+            image[a] = image[a].wrapping_add(1);
+        }
+    }
+    image
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::setup::lattice_fluid_in;
+    use crate::{Boundary, Options, PairSteps, Step};
+
+    /// Runs `sim` in chunks, checking after each that every neighbour list is whole, in order
+    /// and agrees with its partners' (`list_fault`), that the shells match the distances,
+    /// that energy is kept, and that lists were made again along the way.
+    fn lists_hold<const D: usize>(mut sim: Simulation<D>) {
+        let e0 = sim.kinetic_energy() + sim.potential_energy();
+        assert_eq!(sim.list_fault(), None);
+        for _ in 0..20 {
+            sim.run_events(3_000, &mut ());
+            assert_eq!(sim.list_fault(), None);
+            assert!(sim.shell_mismatches(1e-9).is_empty());
+            assert!(sim.overlaps(crate::OVERLAP_TOLERANCE).first.is_none());
+            let e = sim.kinetic_energy() + sim.potential_energy();
+            assert!((e - e0).abs() < 1e-10 * e0.abs(), "{e} from {e0}");
+        }
+        let st = sim.stats();
+        assert!(st.neighbour_list > 1_000 && st.cell_crossing == 0, "{st:?}");
+    }
+
+    fn fluid<const D: usize>(n: usize, boundary: Boundary, p: &Potential) -> Simulation<D> {
+        let (discs, bx) = lattice_fluid_in::<D>(n, 0.3, boundary, 3).unwrap();
+        Simulation::with_potential_at(&discs, bx, &[], p, Options::default(), 0.0).unwrap()
+    }
+
+    #[test]
+    fn neighbour_lists_stay_whole_along_runs() {
+        let well = Potential::single(0, 0, 1.5, -1.0);
+        lists_hold(fluid::<3>(300, Boundary::Periodic, &well));
+        lists_hold(fluid::<2>(300, Boundary::Walls, &well));
+        // A mixture whose species-1 pairs have no steps: their hard cores are met through
+        // the same lists.
+        let (mut discs, bx) = lattice_fluid_in::<2>(300, 0.3, Boundary::Periodic, 5).unwrap();
+        for d in discs.iter_mut().step_by(3) {
+            d.species = 1;
+        }
+        let mixed = Potential {
+            pairs: vec![
+                PairSteps {
+                    species: (0, 0),
+                    steps: vec![Step {
+                        radius: 1.5,
+                        energy: -1.0,
+                    }],
+                },
+                PairSteps {
+                    species: (0, 1),
+                    steps: vec![Step {
+                        radius: 1.2,
+                        energy: 0.5,
+                    }],
+                },
+            ],
+        };
+        let sim = Simulation::with_potential_at(&discs, bx, &[], &mixed, Options::default(), 0.0)
+            .unwrap();
+        lists_hold(sim);
+        // A box with room for a thinner skin only: 12 discs, 5.6 diameters across, three
+        // cells of at least 1.5 plus the skin.
+        let small = fluid::<2>(12, Boundary::Periodic, &well);
+        let steps = small.steps.as_deref().unwrap();
+        assert!(
+            steps.leash < 0.5 * SKIN && steps.leash > 0.0,
+            "{}",
+            steps.leash
+        );
+        lists_hold(small);
+    }
 
     #[test]
     fn exit_time_from_inside_and_at_the_edge() {
