@@ -11,7 +11,8 @@ use arbitrary::{Result, Unstructured};
 use edmd_core::pack::Packer;
 use edmd_core::{
     Barrier, Boundary, CollisionRule, Demon, Disc, EventKind, EventRecord, MultiContact, Observer,
-    Options, OverlapPolicy, SimBox, Simulation, Vector, OVERLAP_TOLERANCE,
+    Options, OverlapPolicy, PairSteps, Potential, SimBox, Simulation, Step, Vector,
+    OVERLAP_TOLERANCE,
 };
 
 /// The longest box axis over the shortest that the targets build (known defect 1).
@@ -62,6 +63,8 @@ pub struct Setup<const D: usize> {
     pub options: Options,
     /// Events to run.
     pub events: u64,
+    /// A stepped pair potential (elastic runs without multi-disc collisions), or hard cores.
+    pub potential: Option<Potential>,
 }
 
 /// A random valid system: box lengths within [`MAX_ASPECT`], walls or periodic per axis, up to
@@ -223,12 +226,34 @@ pub fn setup<const D: usize>(u: &mut Unstructured, max_n: usize) -> Result<Setup
         multi,
     };
     let events = u.int_in_range(1..=2000u64)?;
+    // Drawn last, so that the inputs found before stepped potentials still build the systems
+    // they built: one to three steps outside the largest contact distance, wells and
+    // shoulders, deep or shallow against the kinetic energy, for the neighbour lists and the
+    // shells (a periodic box too small for them refuses the input).
+    let mut potential = None;
+    if rule == CollisionRule::Elastic && multi.is_none() && u.ratio(1, 3)? {
+        let core = discs.iter().map(|d| 2.0 * d.radius).fold(0.0, f64::max);
+        let mut radius = core.max(f64::MIN_POSITIVE);
+        let mut steps = Vec::new();
+        for _ in 0..u.int_in_range(1..=3u8)? {
+            radius *= 1.0 + 0.6 * unit(u)?.max(1e-3);
+            let energy = vmax * vmax * (4.0 * unit(u)? - 2.0);
+            steps.push(Step { radius, energy });
+        }
+        potential = Some(Potential {
+            pairs: vec![PairSteps {
+                species: (0, 0),
+                steps,
+            }],
+        });
+    }
     Ok(Setup {
         discs,
         sim_box,
         barriers,
         options,
         events,
+        potential,
     })
 }
 
@@ -298,7 +323,14 @@ impl<const D: usize> Observer<D> for Watch {
 /// events seen, energy conserved (and momentum in a fully periodic box), no overlaps, no disc
 /// outside the box, the clock not gone back. Returns the events run.
 pub fn run_checked<const D: usize>(sim: &mut Simulation<D>, events: u64) -> u64 {
-    let e0 = sim.kinetic_energy();
+    let energy = |sim: &Simulation<D>| sim.kinetic_energy() + sim.potential_energy();
+    let e0 = energy(sim);
+    // Steps exchange kinetic energy with the potential's: the drift is judged against the
+    // largest of the energies, at the start and now.
+    let scale0 = e0
+        .abs()
+        .max(sim.kinetic_energy())
+        .max(sim.potential_energy().abs());
     let p0 = sim.momentum();
     let scale: f64 = (0..sim.len())
         .map(|i| sim.mass(i) * sim.velocity(i).norm2().sqrt())
@@ -341,10 +373,19 @@ pub fn run_checked<const D: usize>(sim: &mut Simulation<D>, events: u64) -> u64 
             sim.time() >= watch.last || k == 0,
             "clock behind the last event"
         );
-        let e = sim.kinetic_energy();
+        let e = energy(sim);
         assert!(
-            (e - e0).abs() <= ENERGY_TOLERANCE * e0,
+            (e - e0).abs()
+                <= ENERGY_TOLERANCE
+                    * scale0
+                        .max(sim.kinetic_energy())
+                        .max(sim.potential_energy().abs()),
             "energy {e} drifted from {e0} after {done} events"
+        );
+        let mismatched = sim.shell_mismatches(1e-9);
+        assert!(
+            mismatched.is_empty(),
+            "shells that disagree with the distances after {done} events: {mismatched:?}"
         );
         if all_periodic {
             let p = sim.momentum();
@@ -376,7 +417,13 @@ pub fn engine<const D: usize>(data: &[u8], max_n: usize) {
     let Ok(s) = setup::<D>(&mut u, max_n) else {
         return;
     };
-    let Ok(mut sim) = Simulation::with_barriers(&s.discs, s.sim_box, &s.barriers, s.options) else {
+    let built = match &s.potential {
+        None => Simulation::with_barriers(&s.discs, s.sim_box, &s.barriers, s.options),
+        Some(p) => {
+            Simulation::with_potential_at(&s.discs, s.sim_box, &s.barriers, p, s.options, 0.0)
+        }
+    };
+    let Ok(mut sim) = built else {
         return;
     };
     let first = run_checked(&mut sim, s.events / 2);
