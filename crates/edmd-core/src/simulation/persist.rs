@@ -712,16 +712,15 @@ impl<const D: usize> Simulation<D> {
             return bad("bytes after the end of the state");
         }
         // The grid as the simulation built it: cells as wide as the largest diameter, or the
-        // lists' radius (version 4: the outermost step).
-        let width = match (&steps, &shells_v4) {
-            (None, _) => max_diameter,
-            (Some(s), None) => s.list_radius,
-            (Some(s), Some(_)) => max_diameter.max(s.range),
-        };
+        // lists' radius. A version-4 stepped run's grid (cells as wide as the outermost step,
+        // discs filed by position) is made anew below, with its lists.
+        let width = steps.as_ref().map_or(max_diameter, |s| s.list_radius);
         let mut grid = CellGrid::new(&sim_box, n, if n == 0 { 1.0 } else { width })
             .map_err(|e| Error::Checkpoint(format!("cell grid: {e}")))?;
-        grid.restore(head, next, prev, cell)
-            .map_err(|what| Error::Checkpoint(format!("cell grid: {what}")))?;
+        if shells_v4.is_none() {
+            grid.restore(head, next, prev, cell)
+                .map_err(|what| Error::Checkpoint(format!("cell grid: {what}")))?;
+        }
         let mut queue = super::new_queue::<D>(n);
         queue.begin_bulk();
         for (i, &t) in times.iter().enumerate() {
