@@ -83,8 +83,6 @@ pub(super) struct Steps<const D: usize> {
     /// Centres nearer than this are neighbours: the reach of a pair (the outermost step or
     /// the largest contact distance) and the skin, with an allowance for rounding.
     pub(super) list_radius: f64,
-    /// The largest step radius: the range of the interaction.
-    pub(super) range: f64,
     /// Box lengths, and half of them on periodic axes (`+inf` on walled ones), for the
     /// nearest image of a neighbour.
     lengths: [f64; D],
@@ -213,7 +211,6 @@ impl<const D: usize> Steps<D> {
             centre: vec![Vector::ZERO; discs.len()],
             leash: 0.5 * skin,
             list_radius: (reach + skin) * (1.0 + EPS),
-            range,
             lengths: sim_box.lengths,
             half: std::array::from_fn(|a| {
                 if sim_box.is_periodic(a) {
