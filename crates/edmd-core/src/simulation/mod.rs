@@ -25,8 +25,9 @@
 //!
 //! # Ties
 //! Events at exactly equal times run in order of the disc whose schedule holds them (lowest
-//! index first). A disc's own candidates tie-break in the order cell crossing, walls (axis
-//! order), then discs in cell-scan order: the first found is kept.
+//! index first). A disc's own candidates tie-break in the order cell crossing (or a stepped
+//! disc's list departure), walls (axis order), then discs in cell-scan order (a stepped disc's
+//! neighbours in list order): the first found is kept.
 
 mod barriers;
 mod check;
@@ -400,7 +401,7 @@ impl<const D: usize> Simulation<D> {
         sim.mean_mv2 = sim.mean_mv2_now();
         sim.creep_span = sim.creep_span();
         sim.file_all_in_grid();
-        sim.assign_shells(None);
+        sim.make_lists(None);
         if options.overlaps == OverlapPolicy::Refuse {
             if let Some((disc, barrier)) = sim.barrier_overlap() {
                 return Err(Error::BarrierOverlap { disc, barrier });

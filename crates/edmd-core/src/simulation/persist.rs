@@ -791,7 +791,7 @@ impl<const D: usize> Simulation<D> {
         // A version-4 stepped run goes on from its discs at the last event time, with their
         // lists made there and every event predicted afresh.
         if let Some(shells) = shells_v4 {
-            sim.assign_shells(Some(&shells));
+            sim.make_lists(Some(&shells));
             sim.schedule_all();
         }
         // A disc is in the cell it is filed in (at its own clock; it stays there until its

@@ -36,6 +36,8 @@
 //! (`v_n' = -v_n`) when it has not the energy to cross. Kinetic plus potential energy is
 //! conserved to rounding.
 
+use crate::cells::grid::CellCoord;
+use crate::cells::CellGrid;
 use crate::events::{EventKind, EventRecord, StepHit};
 use crate::math::{select, Vector};
 use crate::state::{Disc, Potential, SimBox};
@@ -45,8 +47,8 @@ use super::Simulation;
 /// The skin of the neighbour lists, in largest diameters: a disc's list holds the discs
 /// within the pair's reach plus this, and is made again when the disc has moved half of it.
 /// A thinner skin gives shorter lists and more of them: for the square-well fluid of
-/// BENCHMARKS.md, 0.5 to 0.7 ran fastest of 0.2 to 1 (0.2 and 1 a quarter slower at N = 10^4),
-/// and 0.5 keeps the lists in the smallest allocations.
+/// BENCHMARKS.md, 0.5 to 0.7 ran fastest of 0.2 to 1 (0.2 a quarter slower at N = 10^4, 1 a
+/// tenth), and 0.5 keeps the lists in the smallest allocations.
 pub(super) const SKIN: f64 = 0.5;
 
 /// One pair of species' steps, outermost first, as the loop reads them.
@@ -129,7 +131,7 @@ pub(super) fn exit_time<const D: usize>(dr: Vector<D>, dv: Vector<D>, r: f64) ->
 impl<const D: usize> Steps<D> {
     /// The tables of `potential` for these discs in this box; errors if a step lies inside
     /// the hard core of discs it applies to or names a species no disc has. The lists are
-    /// empty until [`Simulation::assign_shells`] makes them.
+    /// empty until [`Simulation::make_lists`] makes them.
     pub(super) fn new(
         potential: &Potential,
         discs: &[Disc<D>],
@@ -323,7 +325,7 @@ impl<const D: usize> Simulation<D> {
     /// Makes every disc's neighbour list at its position now, each pair inside a step filed
     /// in the shell its distance puts it in, or (`keep`) in the shell given there: the pairs
     /// of `keep[i]` with discs above `i`. Files the discs in the grid by their centres.
-    pub(super) fn assign_shells(&mut self, keep: Option<&[Vec<(u32, u8)>]>) {
+    pub(super) fn make_lists(&mut self, keep: Option<&[Vec<(u32, u8)>]>) {
         let Some(steps) = self.steps.as_deref_mut() else {
             return;
         };
@@ -341,24 +343,18 @@ impl<const D: usize> Simulation<D> {
             let c = self.grid.coord_of(steps.centre[i]);
             self.grid.insert(i, c);
         }
-        let r2 = steps.list_radius * steps.list_radius;
         for i in 0..n {
-            let ci = steps.centre[i];
             let mut found = Vec::new();
-            self.grid.for_each_near(self.grid.cell_of(i), |j, _| {
+            let (c, ci) = (self.grid.cell_of(i), steps.centre[i]);
+            for_each_listed(&self.grid, steps, c, ci, |j, r2| {
                 if j <= i {
-                    return;
-                }
-                let dr = steps.nearest_image(steps.centre[j] - ci);
-                let r = dr.norm2();
-                if r >= r2 {
                     return;
                 }
                 let s = match keep {
                     Some(k) => shell_in(&k[i], j as u32),
                     None => steps
                         .table(self.species[i], self.species[j])
-                        .map_or(0, |t| shell_at(t, r.sqrt())),
+                        .map_or(0, |t| shell_at(t, r2.sqrt())),
                 };
                 found.push((j, s));
             });
@@ -400,9 +396,8 @@ impl<const D: usize> Simulation<D> {
         }
         let mut new = std::mem::take(&mut steps.spare);
         new.clear();
-        let r2 = steps.list_radius * steps.list_radius;
-        self.grid.for_each_near(c, |j, _| {
-            if j != i && steps.nearest_image(steps.centre[j] - p).norm2() < r2 {
+        for_each_listed(&self.grid, steps, c, p, |j, _| {
+            if j != i {
                 new.push((j as u32, 0));
             }
         });
@@ -550,7 +545,6 @@ impl<const D: usize> Simulation<D> {
     pub(super) fn list_fault(&self) -> Option<String> {
         let steps = self.steps.as_ref()?;
         let n = self.body.len();
-        let r2 = steps.list_radius * steps.list_radius;
         for (i, list) in steps.near.iter().enumerate() {
             for (k, &(j, s)) in list.iter().enumerate() {
                 let ju = j as usize;
@@ -567,14 +561,10 @@ impl<const D: usize> Simulation<D> {
                     return Some(format!("discs {i} and {j}: lists that disagree"));
                 }
             }
-            let ci = steps.centre[i];
             let mut missing = None;
-            self.grid.for_each_near(self.grid.cell_of(i), |j, _| {
-                if j != i
-                    && missing.is_none()
-                    && steps.nearest_image(steps.centre[j] - ci).norm2() < r2
-                    && find(list, j as u32).is_err()
-                {
+            let (c, ci) = (self.grid.cell_of(i), steps.centre[i]);
+            for_each_listed(&self.grid, steps, c, ci, |j, _| {
+                if j != i && missing.is_none() && find(list, j as u32).is_err() {
                     missing = Some(j);
                 }
             });
@@ -673,6 +663,25 @@ impl<const D: usize> Simulation<D> {
         };
         (record, [i, j])
     }
+}
+
+/// Calls `f(j, r^2)` for every disc `j` filed in the cells around `c` whose list centre is
+/// nearer `p` than the lists' radius, at distance `r` (the disc whose centre is `p` included):
+/// the discs a list made at `p` holds.
+fn for_each_listed<const D: usize>(
+    grid: &CellGrid<D>,
+    steps: &Steps<D>,
+    c: CellCoord<D>,
+    p: Vector<D>,
+    mut f: impl FnMut(usize, f64),
+) {
+    let limit = steps.list_radius * steps.list_radius;
+    grid.for_each_near(c, |j, _| {
+        let r2 = steps.nearest_image(steps.centre[j] - p).norm2();
+        if r2 < limit {
+            f(j, r2);
+        }
+    });
 }
 
 /// Time until disc `i`, at `pos` moving at `vel`, strays half the skin from its list's centre
