@@ -307,7 +307,7 @@ impl<const D: usize> Observer<D> for Watch {
         assert!(e.impulse.is_finite(), "impulse {:?}", e.impulse);
         self.last = e.time;
         let k = match e.kind {
-            EventKind::DiscDisc { .. } => 0,
+            EventKind::DiscDisc { .. } | EventKind::Reaction { .. } => 0,
             EventKind::Wall { .. } => 1,
             EventKind::CellCrossing { .. } => 2,
             EventKind::Barrier { .. } => 3,

@@ -103,6 +103,11 @@ pub enum Error {
     /// core, or naming a species no disc has.
     #[error("potential: {0}")]
     BadPotential(String),
+    /// Reaction rules that cannot be: probabilities outside `[0, 1]`, negative or non-finite
+    /// energies, two rules for one pair, a reactant no disc is and no rule makes, or rules
+    /// with what they do not go with.
+    #[error("reaction {0}")]
+    BadReaction(String),
     /// A time beyond what the clock resolves for these discs (see
     /// [`crate::Simulation::clock_limit`]).
     #[error(

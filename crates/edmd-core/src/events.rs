@@ -22,6 +22,16 @@ pub enum EventKind {
         /// Its partner.
         j: usize,
     },
+    /// Discs `i` and `j` collided and reacted under reaction rule `rule` (their species and
+    /// colours are already the products').
+    Reaction {
+        /// The disc whose schedule held the event.
+        i: usize,
+        /// Its partner.
+        j: usize,
+        /// Index of the rule in [`crate::Reactions::rules`].
+        rule: usize,
+    },
     /// Disc `i` bounced off a wall.
     Wall {
         /// The disc.

@@ -70,7 +70,7 @@ impl<const D: usize> Observer<D> for CollisionCounter {
     #[inline]
     fn on_event(&mut self, e: &EventRecord<D>, _: &Simulation<D>) {
         match e.kind {
-            EventKind::DiscDisc { i, j } => {
+            EventKind::DiscDisc { i, j } | EventKind::Reaction { i, j, .. } => {
                 self.disc[i] += 1;
                 self.disc[j] += 1;
             }

@@ -34,7 +34,7 @@ impl Observer for Watchdog {
         self.last_time = e.time;
         self.events += 1;
         match e.kind {
-            EventKind::DiscDisc { i, j } => {
+            EventKind::DiscDisc { i, j } | EventKind::Reaction { i, j, .. } => {
                 if let (Some((pi, ti)), Some((pj, _))) =
                     (self.last_partner[i], self.last_partner[j])
                 {

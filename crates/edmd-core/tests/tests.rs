@@ -12,6 +12,7 @@ mod naive_reference;
 mod pack;
 mod pack_checkpoint;
 mod physics;
+mod reactions;
 mod stall;
 mod stepped;
 mod thermostat;

@@ -259,6 +259,7 @@ impl<const D: usize> ViewerApp<D> {
             Some(e) => {
                 let what = match e.kind {
                     EventKind::DiscDisc { i, j } => format!("{what_} {i} and {j} collide"),
+                    EventKind::Reaction { i, j, .. } => format!("{what_} {i} and {j} react"),
                     EventKind::Wall { i, .. } => format!("{one} {i} hits a wall"),
                     EventKind::Barrier { i, barrier, .. } => {
                         format!("{one} {i} meets barrier {barrier}")

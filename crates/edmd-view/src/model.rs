@@ -83,7 +83,9 @@ impl<const D: usize> Observer<D> for Trails<D> {
             return;
         }
         let (a, b) = match e.kind {
-            EventKind::DiscDisc { i, j } | EventKind::Step { i, j, .. } => (i, Some(j)),
+            EventKind::DiscDisc { i, j }
+            | EventKind::Reaction { i, j, .. }
+            | EventKind::Step { i, j, .. } => (i, Some(j)),
             EventKind::Wall { i, .. }
             | EventKind::Barrier { i, .. }
             | EventKind::Thermostat { i }

@@ -242,7 +242,7 @@ impl<const D: usize> Observer<D> for Collisions {
     #[inline]
     fn on_event(&mut self, e: &EventRecord<D>, sim: &Simulation<D>) {
         match e.kind {
-            EventKind::DiscDisc { i, j } => {
+            EventKind::DiscDisc { i, j } | EventKind::Reaction { i, j, .. } => {
                 self.block_disc_disc += 1;
                 self.collided(i, e.time, sim);
                 self.collided(j, e.time, sim);

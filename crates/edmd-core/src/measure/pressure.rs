@@ -203,7 +203,9 @@ impl<const D: usize> Observer<D> for Pressure {
         match e.kind {
             // Every impulse between a pair counts in the virial: hard-core collisions and the
             // crossings of and bounces at a stepped potential's steps.
-            EventKind::DiscDisc { i, j } | EventKind::Step { i, j, .. } => {
+            EventKind::DiscDisc { i, j }
+            | EventKind::Reaction { i, j, .. }
+            | EventKind::Step { i, j, .. } => {
                 let r_ij = sim
                     .sim_box()
                     .minimum_image(sim.position(i) - sim.position(j));

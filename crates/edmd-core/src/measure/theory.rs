@@ -118,6 +118,41 @@ pub fn enskog_collision_frequency_in(eta: f64, sigma: f64, kt: f64, m: f64, dim:
     }
 }
 
+/// The fraction of collisions in an equilibrium fluid whose kinetic energy of relative motion
+/// along the line of centres, `mu v_n^2 / 2`, is at least `activation` (the line-of-centres
+/// law): `exp(-activation / kT)`, in two dimensions as in three, dilute or dense.
+///
+/// At contact the colliding pairs cross the contact surface at the rate of the flux of an
+/// equilibrium fluid through it, so `v_n` is distributed as `v_n exp(-mu v_n^2 / 2kT)` for
+/// `v_n > 0` whatever the dimension (the normal component of a Maxwellian relative velocity,
+/// weighted by the flux; positions and velocities are independent in equilibrium, so the
+/// pair correlation at contact changes how many pairs collide, not how fast): the fraction
+/// above `v*` is `exp(-mu v*^2 / 2kT)`. In three dimensions this is the line-of-centres model
+/// of collision theory (Present, *Kinetic Theory of Gases* (1958), section 8.2; Levine,
+/// *Molecular Reaction Dynamics* (2005), section 3.2.1), whose reaction cross section
+/// `pi sigma^2 (1 - E*/E)` gives the same `exp(-E*/kT)`.
+pub fn line_of_centres_fraction(activation: f64, kt: f64) -> f64 {
+    (-activation / kt).exp()
+}
+
+/// The rate constant `k` of a reaction `A + B -> ...` of equal hard particles (diameter
+/// `sigma`, mass `m`) at packing fraction `eta`, each collision of an `A` with a `B` reacting
+/// when its normal kinetic energy is at least `activation` (with probability 1): reactions per
+/// unit volume and time are `k n_A n_B` (`k n_A^2 / 2` for like reactants). It is Enskog's
+/// collision rate per pair, `omega / n` ([`enskog_collision_frequency_in`], with the contact
+/// value of the whole fluid), times [`line_of_centres_fraction`].
+pub fn line_of_centres_rate_constant(
+    eta: f64,
+    sigma: f64,
+    kt: f64,
+    m: f64,
+    dim: usize,
+    activation: f64,
+) -> f64 {
+    enskog_collision_frequency_in(eta, sigma, kt, m, dim) / number_density_in(eta, sigma, dim)
+        * line_of_centres_fraction(activation, kt)
+}
+
 /// Enskog's mean free path `<v> / omega` in `dim` dimensions: `1 / (2 sqrt(2) n sigma g)` for
 /// discs ([`enskog_mean_free_path`]), `1 / (sqrt(2) pi n sigma^2 g)` for spheres (mean speed
 /// `sqrt(8 kT / (pi m))`).

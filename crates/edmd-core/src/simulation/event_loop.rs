@@ -205,7 +205,7 @@ impl<const D: usize> Simulation<D> {
     /// Whether the loop must run its copy with steps and redraws.
     #[inline(always)]
     pub(super) fn has_extras(&self) -> bool {
-        self.steps.is_some() || self.bath.is_some()
+        self.steps.is_some() || self.bath.is_some() || self.chemistry.is_some()
     }
 
     /// Chooses the portable event loop (`true`) even where the processor runs the faster
@@ -267,6 +267,9 @@ impl<const D: usize> Simulation<D> {
             let (record, again) = match self.body[i].pending {
                 Pending::Disc { partner, .. } if EXTRAS && self.steps.is_some() => {
                     self.collide_stepped(i, partner as usize, t)
+                }
+                Pending::Disc { partner, .. } if EXTRAS && self.chemistry.is_some() => {
+                    self.collide_reactive(i, partner as usize, t)
                 }
                 Pending::Disc { partner, .. } => self.collide(i, partner as usize, t),
                 Pending::Wall { axis, side } => {

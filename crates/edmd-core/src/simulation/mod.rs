@@ -36,6 +36,7 @@ mod event_loop;
 mod options;
 mod persist;
 mod predict;
+mod reactions;
 #[cfg(target_arch = "x86_64")]
 mod scan_x86;
 mod stall;
@@ -160,6 +161,9 @@ pub struct Simulation<const D: usize = 2> {
     steps: Option<Box<steps::Steps<D>>>,
     /// The Andersen thermostat, with each disc's next redraw; `None`: energy is conserved.
     bath: Option<Box<thermostat::Bath>>,
+    /// The reaction rules, with the heat released and the reactions counted; `None`: every
+    /// collision is elastic.
+    chemistry: Option<Box<reactions::Chemistry>>,
 }
 
 /// The event queue for `n` discs in `D` dimensions. In 2D about two buckets per disc, as
@@ -392,6 +396,7 @@ impl<const D: usize> Simulation<D> {
             stall: None,
             steps,
             bath: None,
+            chemistry: None,
         };
         sim.check_clock(t0)?;
         sim.set_portable_loop(false);
@@ -677,6 +682,7 @@ impl<const D: usize> Simulation<D> {
             + self.queue.memory_bytes()
             + self.grid.memory_bytes()
             + self.steps.as_ref().map_or(0, |s| s.memory_bytes())
+            + self.chemistry.as_ref().map_or(0, |c| c.memory_bytes())
     }
 }
 

@@ -91,4 +91,6 @@ pub struct Stats {
     /// Neighbour lists made again (stepped potentials, whose discs are filed by where their
     /// lists were made and have no cell crossings).
     pub neighbour_list: u64,
+    /// Reactive collisions (counted in `disc_disc` too).
+    pub reaction: u64,
 }

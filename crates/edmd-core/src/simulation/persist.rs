@@ -31,7 +31,8 @@ use crate::frame::{self, Reader, Writer};
 /// The first bytes of every checkpoint.
 pub const MAGIC: &[u8; 8] = frame::RUN.magic;
 
-/// The checkpoint format this build writes. It reads this one, version 4 (whose stepped
+/// The checkpoint format this build writes. It reads this one, version 5 (which had no
+/// reaction rules), version 4 (whose stepped
 /// potentials kept their discs' cells by position, with no neighbour lists: such a run
 /// continues with its discs at the last event time and their lists made there, every event
 /// predicted afresh, which is a faithful continuation but not the bits a version-4 build would
@@ -343,6 +344,34 @@ impl<const D: usize> Simulation<D> {
                 }
             }
         }
+        // The reaction rules, their seed and colours, the heat released and the reactions
+        // per rule (format 6).
+        match &self.chemistry {
+            None => w.u8(0),
+            Some(c) => {
+                w.u8(1);
+                w.u64(self.stats.reaction);
+                w.u64(c.reactions.seed);
+                w.f64(c.heat);
+                w.len(c.reactions.rules.len());
+                for (r, &count) in c.reactions.rules.iter().zip(&c.count) {
+                    for s in [r.reactants.0, r.reactants.1, r.products.0, r.products.1] {
+                        w.u32(u32::from(s));
+                    }
+                    w.f64(r.activation);
+                    w.f64(r.probability);
+                    w.f64(r.heat);
+                    w.u64(count);
+                }
+                w.len(c.reactions.colours.len());
+                for &(s, colour) in &c.reactions.colours {
+                    w.u32(u32::from(s));
+                    for x in colour {
+                        w.u8(x);
+                    }
+                }
+            }
+        }
         w.bytes(extra);
         w.seal()
     }
@@ -406,6 +435,7 @@ impl<const D: usize> Simulation<D> {
             step: 0,
             thermostat: 0,
             neighbour_list: 0,
+            reaction: 0,
         };
         let adjusted = r.u64()? as usize;
         let mean_mv2 = r.f64()?;
@@ -707,6 +737,48 @@ impl<const D: usize> Simulation<D> {
                 count,
             }));
         }
+        let mut chemistry = None;
+        let mut reactions_so_far = 0;
+        if version >= 6 && r.flag("reactions")? {
+            reactions_so_far = r.u64()?;
+            let seed = r.u64()?;
+            let heat = r.f64()?;
+            let nr = r.len(4 * 4 + 4 * 8)?;
+            let species_of = |x: u32| {
+                u16::try_from(x).or_else(|_| bad(format!("reaction species {x}")))
+            };
+            let (mut rules, mut counts) = (Vec::with_capacity(nr), Vec::with_capacity(nr));
+            for _ in 0..nr {
+                let reactants = (species_of(r.u32()?)?, species_of(r.u32()?)?);
+                let products = (species_of(r.u32()?)?, species_of(r.u32()?)?);
+                rules.push(crate::state::Reaction {
+                    reactants,
+                    products,
+                    activation: r.f64()?,
+                    probability: r.f64()?,
+                    heat: r.f64()?,
+                });
+                counts.push(r.u64()?);
+            }
+            let nc = r.len(4 + 3)?;
+            let mut colours = Vec::with_capacity(nc);
+            for _ in 0..nc {
+                let s = species_of(r.u32()?)?;
+                colours.push((s, [r.u8()?, r.u8()?, r.u8()?]));
+            }
+            if !heat.is_finite() {
+                return bad(format!("reaction heat {heat}"));
+            }
+            let mut chem = super::reactions::Chemistry::new(crate::state::Reactions {
+                rules,
+                seed,
+                colours,
+            })
+            .or_else(|e| bad(e.to_string()))?;
+            chem.heat = heat;
+            chem.count = counts;
+            chemistry = Some(Box::new(chem));
+        }
         let extra = r.bytes()?.to_vec();
         if !r.at_end() {
             return bad("bytes after the end of the state");
@@ -764,7 +836,12 @@ impl<const D: usize> Simulation<D> {
             stall,
             steps,
             bath,
+            chemistry,
         };
+        if sim.chemistry.is_some() {
+            sim.reactions_fit().or_else(|e| bad(e.to_string()))?;
+        }
+        sim.stats.reaction = reactions_so_far;
         sim.stats.step = step_events;
         sim.stats.neighbour_list = relists;
         sim.stats.thermostat = redraws;
@@ -773,10 +850,13 @@ impl<const D: usize> Simulation<D> {
         // is conserved to rounding (1e-9 relative in every fuzzed run, RELIABILITY.md): one that
         // is not the discs' would move the demon's thresholds and, far too large, keep the stall
         // watcher from seeing a creeping clock.
-        // (Under a stepped potential kinetic energy is exchanged with the steps', and under a
-        // thermostat with the bath, so only its finiteness is checked then.)
+        // (Under a stepped potential kinetic energy is exchanged with the steps', under a
+        // thermostat with the bath, and with reactions that release heat with the reactants,
+        // so only its finiteness is checked then.)
         let now_mv2 = sim.mean_mv2_now();
-        let stepped = sim.steps.is_some() || sim.bath.is_some();
+        let stepped = sim.steps.is_some()
+            || sim.bath.is_some()
+            || sim.chemistry.as_ref().is_some_and(|c| c.heat != 0.0);
         if !(mean_mv2.is_finite() && (stepped || (mean_mv2 - now_mv2).abs() <= 1e-6 * now_mv2)) {
             return bad(format!(
                 "mean m v^2 {mean_mv2}, where the discs' kinetic energy gives {now_mv2}"

@@ -258,7 +258,9 @@ impl<const D: usize> Simulation<D> {
             }
             self.still = self.still.saturating_add(1);
             match e.kind {
-                EventKind::DiscDisc { i, j } | EventKind::Step { i, j, .. } => discs.extend([i, j]),
+                EventKind::DiscDisc { i, j }
+                | EventKind::Reaction { i, j, .. }
+                | EventKind::Step { i, j, .. } => discs.extend([i, j]),
                 EventKind::Wall { i, .. }
                 | EventKind::Barrier { i, .. }
                 | EventKind::Thermostat { i }
