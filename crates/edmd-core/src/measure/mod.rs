@@ -14,6 +14,7 @@
 //! | [`diffusion`] | mean square displacement and the diffusion coefficient | no |
 //! | [`species`] | composition of the two halves of the box over time | no |
 //! | [`energy`] | kinetic, potential and total energy; heat capacity in a heat bath | no |
+//! | [`kinetics`] | species counts over time and each reaction rule's rate constant with block errors | yes |
 //! | [`rdf`] | the radial distribution function `g(r)` | no |
 //!
 //! ```
@@ -39,6 +40,7 @@
 pub mod collisions;
 pub mod diffusion;
 pub mod energy;
+pub mod kinetics;
 pub mod pressure;
 pub mod rdf;
 pub mod species;
@@ -51,6 +53,7 @@ pub mod theory;
 pub use collisions::{CollisionBlock, CollisionSummary, Collisions, DiscFlights};
 pub use diffusion::{Diffusion, DiffusionFit};
 pub use energy::{Energy, EnergySummary};
+pub use kinetics::{Kinetics, RuleRate};
 pub use pressure::{Pressure, PressureBlock, PressureSummary};
 pub use rdf::Rdf;
 pub use species::{SpeciesHalves, SpeciesSnapshot, SpeciesSummary};

@@ -113,6 +113,34 @@ impl Reactions {
         Ok(())
     }
 
+    /// Gives every species a rule makes a colour, where [`Self::colours`] has none: the colour
+    /// of the first disc of that species in `discs` (`(species, colour)` per disc), or else
+    /// [`species_colour`]'s. The file readers and Python call this, so that products look
+    /// alike wherever they are made.
+    pub fn fill_colours(&mut self, discs: impl IntoIterator<Item = (u16, Colour)>) {
+        let mut first: Vec<(u16, Colour)> = Vec::new();
+        for (s, c) in discs {
+            if !first.iter().any(|f| f.0 == s) {
+                first.push((s, c));
+            }
+        }
+        let made: Vec<u16> = self
+            .rules
+            .iter()
+            .flat_map(|r| [r.products.0, r.products.1])
+            .collect();
+        for s in made {
+            if self.colours.iter().any(|c| c.0 == s) {
+                continue;
+            }
+            let c = first
+                .iter()
+                .find(|f| f.0 == s)
+                .map_or_else(|| species_colour(s), |f| f.1);
+            self.colours.push((s, c));
+        }
+    }
+
     /// The rule for a pair of species, and whether it names them the other way round.
     pub fn rule_for(&self, a: u16, b: u16) -> Option<(usize, bool)> {
         self.rules.iter().enumerate().find_map(|(k, r)| {
@@ -125,6 +153,24 @@ impl Reactions {
             }
         })
     }
+}
+
+/// A colour for species `s` that no disc of the input shows: ten well-separated colours
+/// (Tableau's palette, as matplotlib's default cycle), repeating.
+pub fn species_colour(s: u16) -> Colour {
+    const PALETTE: [Colour; 10] = [
+        [31, 119, 180],
+        [255, 127, 14],
+        [44, 160, 44],
+        [214, 39, 40],
+        [148, 103, 189],
+        [140, 86, 75],
+        [227, 119, 194],
+        [127, 127, 127],
+        [188, 189, 34],
+        [23, 190, 207],
+    ];
+    PALETTE[s as usize % PALETTE.len()]
 }
 
 #[cfg(test)]
@@ -186,6 +232,17 @@ mod tests {
         Reactions::new(vec![rule(0, 1, 2, 2), rule(0, 0, 3, 3)])
             .validate()
             .unwrap();
+    }
+
+    #[test]
+    fn products_take_their_species_colour() {
+        let mut r = Reactions::new(vec![rule(0, 1, 1, 2), rule(2, 2, 3, 3)]);
+        r.colours.push((3, [9, 9, 9]));
+        r.fill_colours([(0, [1, 1, 1]), (1, [5, 5, 5]), (1, [6, 6, 6])]);
+        assert_eq!(
+            r.colours,
+            vec![(3, [9, 9, 9]), (1, [5, 5, 5]), (2, species_colour(2))]
+        );
     }
 
     #[test]

@@ -1,15 +1,18 @@
 //! `edmd experiment NAME`: the measurements of the Princeton assignment, each a command that
 //! prints a summary and writes CSV files and plots (PNG and SVG) into `--out-dir`.
 
+pub mod annihilation;
 pub mod billiards;
 pub mod brownian;
 pub mod common;
 pub mod demon;
 pub mod diffusion;
 pub mod eos;
+pub mod front;
 pub mod jamming;
 pub mod maxwell;
 pub mod mfp;
+pub mod reaction;
 pub mod reversibility;
 pub mod shoulder;
 pub mod square_well;
@@ -20,6 +23,9 @@ use clap::Subcommand;
 /// The experiments.
 #[derive(Debug, Subcommand)]
 pub enum Experiment {
+    /// A + A -> inert in 2D: the density of A against time, against the mean-field law with
+    /// the measured rate constant and the diffusion-limited law at late times.
+    Annihilation(annihilation::AnnihilationArgs),
     /// Break a racked triangle with multi-disc and with binary collisions; plot both.
     Billiards(billiards::BilliardsArgs),
     /// Brownian motion: the path and mean square displacement of one big disc among small ones.
@@ -32,12 +38,18 @@ pub enum Experiment {
     /// Henderson's formula (Pieprzyk et al.'s for spheres). Writes eos.csv, eos.png and eos.svg
     /// into --out-dir (default: the current folder, where files of those names are replaced).
     Eos(eos::EosArgs),
+    /// A reaction front, A + B -> 2A invading B: its speed against Fisher-KPP's 2 sqrt(D k),
+    /// with D and k measured by edmd.
+    Front(front::FrontArgs),
     /// The jammed packing fraction against the compression rate (Lubachevsky-Stillinger).
     Jamming(jamming::JammingArgs),
     /// The speed histogram against the 2D Maxwell-Boltzmann (Rayleigh) law.
     Maxwell(maxwell::MaxwellArgs),
     /// Free path and free time histograms; mean free path against density.
     Mfp(mfp::MfpArgs),
+    /// Reactive collisions: the rate constant against the line-of-centres law over activation
+    /// energies, in 2D and 3D, dilute and dense, and the Prigogine-Xhrouet effect.
+    Reaction(reaction::ReactionArgs),
     /// Run forward, reverse the velocities, run back: how far from the start do the discs land?
     Reversibility(reversibility::ReversibilityArgs),
     /// The square-shoulder model (Young and Alder): the isostructural solid-solid transition
@@ -57,14 +69,17 @@ pub fn run(which: &Experiment) -> Result<()> {
         common::stop_promptly();
     }
     let result = match which {
+        Experiment::Annihilation(a) => annihilation::run(a),
         Experiment::Billiards(a) => billiards::run(a),
         Experiment::Brownian(a) => brownian::run(a),
         Experiment::Demon(a) => demon::run(a),
         Experiment::Diffusion(a) => diffusion::run(a),
         Experiment::Eos(a) => eos::run(a),
+        Experiment::Front(a) => front::run(a),
         Experiment::Jamming(a) => jamming::run(a),
         Experiment::Maxwell(a) => maxwell::run(a),
         Experiment::Mfp(a) => mfp::run(a),
+        Experiment::Reaction(a) => reaction::run(a),
         Experiment::Reversibility(a) => reversibility::run(a),
         Experiment::Shoulder(a) => shoulder::run(a),
         Experiment::SquareWell(a) => square_well::run(a),
