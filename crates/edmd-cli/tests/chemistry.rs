@@ -1,0 +1,1 @@
+//! `edmd experiment reaction` and `annihilation`.
