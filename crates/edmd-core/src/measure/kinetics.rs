@@ -158,7 +158,12 @@ impl Kinetics {
 impl<const D: usize> Observer<D> for Kinetics {
     #[inline]
     fn on_event(&mut self, e: &EventRecord<D>, _: &Simulation<D>) {
+        // A rule beyond the ones seen at the start (rules set afresh since) is not counted:
+        // the caller starts a new measurement with new rules.
         if let EventKind::Reaction { rule, .. } = e.kind {
+            if rule >= self.rules.len() {
+                return;
+            }
             self.integrate_to(e.time);
             let [a, b, c, d] = self.rules[rule];
             for s in [a, b] {

@@ -76,15 +76,19 @@ impl SpeciesHalves {
         }
     }
 
-    /// Whether this measurement can go on observing `sim`: the axis exists and every disc's
-    /// species has a count (a measurement read back from a file is checked so before use).
+    /// Whether this measurement can go on observing `sim`: the axis exists (a measurement read
+    /// back from a file is checked so before use; species it has not seen yet are counted from
+    /// their first sample on).
     pub fn fits<const D: usize>(&self, sim: &Simulation<D>) -> bool {
-        self.axis < D && (0..sim.len()).all(|i| (sim.species(i) as usize) < self.species)
+        self.axis < D
     }
 
-    /// Records the counts now.
+    /// Records the counts now. A species first seen now (made by a reaction) is counted from
+    /// here on; earlier snapshots hold no count of it, read as 0.
     pub fn sample<const D: usize>(&mut self, sim: &Simulation<D>) {
         let mid = 0.5 * sim.sim_box().lengths[self.axis];
+        let seen = (0..sim.len()).map(|i| sim.species(i) as usize + 1).max();
+        self.species = self.species.max(seen.unwrap_or(0));
         let mut counts = vec![[0usize; 2]; self.species];
         for i in 0..sim.len() {
             let s = sim.species(i) as usize;
@@ -139,6 +143,39 @@ impl SpeciesHalves {
 mod tests {
     use super::*;
     use crate::{Disc, Options, SimBox, Vector};
+
+    #[test]
+    fn species_made_by_reactions_are_counted_from_when_they_appear() {
+        // Two discs of species 0 meet head on and become species 3, which the measurement,
+        // made before, had not seen (it once indexed past its counts).
+        let discs = [
+            Disc::new(Vector::new([2.0, 5.0]), Vector::new([1.0, 0.0]), 0.5),
+            Disc::new(Vector::new([4.0, 5.0]), Vector::new([0.0, 0.0]), 0.5),
+        ];
+        let mut sim =
+            Simulation::new(&discs, SimBox::walls([10.0, 10.0]), Options::default()).unwrap();
+        sim.set_reactions(Some(crate::Reactions::new(vec![crate::Reaction {
+            reactants: (0, 0),
+            products: (3, 3),
+            activation: 0.0,
+            probability: 1.0,
+            heat: 0.0,
+        }])))
+        .unwrap();
+        let mut halves = SpeciesHalves::new(&sim, 0);
+        halves.sample(&sim);
+        sim.run_until(2.0, &mut ());
+        assert!(halves.fits(&sim));
+        halves.sample(&sim);
+        assert_eq!(halves.snapshots()[0].counts, vec![[2, 0]]);
+        // Disc 1, knocked on at speed 1 from x = 4 at t = 1, is at the cut by t = 2.
+        assert_eq!(
+            halves.snapshots()[1].counts,
+            vec![[0, 0], [0, 0], [0, 0], [1, 1]]
+        );
+        assert_eq!(halves.series(3, Side::Low), vec![(0.0, 0.0), (2.0, 1.0)]);
+        assert_eq!(halves.summary().overall, vec![0.0, 0.0, 0.0, 1.0]);
+    }
 
     #[test]
     fn composition_of_the_halves() {

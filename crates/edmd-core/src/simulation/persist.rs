@@ -744,9 +744,8 @@ impl<const D: usize> Simulation<D> {
             let seed = r.u64()?;
             let heat = r.f64()?;
             let nr = r.len(4 * 4 + 4 * 8)?;
-            let species_of = |x: u32| {
-                u16::try_from(x).or_else(|_| bad(format!("reaction species {x}")))
-            };
+            let species_of =
+                |x: u32| u16::try_from(x).or_else(|_| bad(format!("reaction species {x}")));
             let (mut rules, mut counts) = (Vec::with_capacity(nr), Vec::with_capacity(nr));
             for _ in 0..nr {
                 let reactants = (species_of(r.u32()?)?, species_of(r.u32()?)?);

@@ -132,8 +132,9 @@ fn draw(seed: u64, lo: usize, count: u32, hi: usize) -> (f64, bool) {
 
 impl<const D: usize> Simulation<D> {
     /// Makes collisions reactive under `reactions` from now on (`None`: none, the default).
-    /// Refused with the reason for rules that cannot be (see [`Reactions::validate`]; a
-    /// reactant no disc is and no rule makes), and with a stepped potential (whose pair tables
+    /// Refused with the reason for rules that cannot be (see [`Reactions::validate`]; at time
+    /// 0, a start, a reactant no disc is and no rule makes, most likely a mistyped species,
+    /// where a later state may have used a reactant up), and with a stepped potential (whose pair tables
     /// are per species, so a reaction would change a pair's shell), multi-disc collisions or
     /// a rule other than the elastic one. Reactions counted so far start again from 0.
     pub fn set_reactions(&mut self, reactions: Option<Reactions>) -> Result<(), Error> {
@@ -146,7 +147,10 @@ impl<const D: usize> Simulation<D> {
             None
         } else {
             let chem = Chemistry::new(reactions)?;
-            chem.check_reactants(&self.species)?;
+            // A later state may have used a reactant up.
+            if self.now == 0.0 {
+                chem.check_reactants(&self.species)?;
+            }
             Some(Box::new(chem))
         };
         Ok(())
@@ -221,10 +225,8 @@ impl<const D: usize> Simulation<D> {
         } else {
             (0.0, false)
         };
-        let reacts = dot < 0.0
-            && 0.5 * mu * vn2 >= rule.activation
-            && u < rule.probability
-            && after >= 0.0;
+        let reacts =
+            dot < 0.0 && 0.5 * mu * vn2 >= rule.activation && u < rule.probability && after >= 0.0;
         if !reacts {
             return self.collide(i, j, t);
         }
