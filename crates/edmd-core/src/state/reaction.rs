@@ -80,18 +80,18 @@ impl Reactions {
             }
             if !(r.activation.is_finite() && r.activation >= 0.0) {
                 return bad(format!(
-                    "{name}: the activation energy must be a finite number >= 0, found {}",
+                    "{name}: the activation energy must be a finite number >= 0, found {:?}",
                     r.activation
                 ));
             }
             if !(r.probability.is_finite() && (0.0..=1.0).contains(&r.probability)) {
                 return bad(format!(
-                    "{name}: the probability must be in [0, 1], found {}",
+                    "{name}: the probability must be in [0, 1], found {:?}",
                     r.probability
                 ));
             }
             if !r.heat.is_finite() {
-                return bad(format!("{name}: the heat must be finite, found {}", r.heat));
+                return bad(format!("{name}: the heat must be finite, found {:?}", r.heat));
             }
             if let Some(q) = self.rules[..k]
                 .iter()
