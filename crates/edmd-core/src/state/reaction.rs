@@ -91,7 +91,10 @@ impl Reactions {
                 ));
             }
             if !r.heat.is_finite() {
-                return bad(format!("{name}: the heat must be finite, found {:?}", r.heat));
+                return bad(format!(
+                    "{name}: the heat must be finite, found {:?}",
+                    r.heat
+                ));
             }
             if let Some(q) = self.rules[..k]
                 .iter()
