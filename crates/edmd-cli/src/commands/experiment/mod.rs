@@ -24,7 +24,7 @@ use clap::Subcommand;
 #[derive(Debug, Subcommand)]
 pub enum Experiment {
     /// A + A -> inert in 2D: the density of A against time, against the mean-field law with
-    /// the measured rate constant and the diffusion-limited law at late times.
+    /// the line-of-centres rate constant early on and Lee's diffusion-limited law late.
     Annihilation(annihilation::AnnihilationArgs),
     /// Break a racked triangle with multi-disc and with binary collisions; plot both.
     Billiards(billiards::BilliardsArgs),
