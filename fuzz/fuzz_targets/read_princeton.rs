@@ -1,22 +1,27 @@
 //! The Princeton reader with edmd's directives, 2D and 3D: the first byte picks the column order
 //! and the entry point (`princeton::parse` or `parse_any`), the rest is the file. Any text gives
 //! a system or an error naming a line inside the file, never a panic; a system read is written
-//! back and read again unchanged, and the engine builds or refuses it without a panic.
+//! back and read again unchanged (its reaction rules to the bit), and the engine builds or
+//! refuses it without a panic, taking every reaction rule the reader accepted.
 #![no_main]
 
 use edmd_fuzz::{check_error, check_loaded};
 use edmd_io::princeton::{self, ColumnOrder};
-use edmd_io::{AnyLoaded, Format, LoadedSystem};
+use edmd_io::{AnyLoaded, Format, Interactions, LoadedSystem};
 use libfuzzer_sys::fuzz_target;
 
 fn round_trip<const D: usize>(sys: &LoadedSystem<D>, order: ColumnOrder, text: &str) {
     let mut out = Vec::new();
-    princeton::write_with(
+    let interactions = Interactions {
+        potential: &sys.potential,
+        reactions: &sys.reactions,
+    };
+    princeton::write_full(
         &mut out,
         &sys.discs,
         &sys.sim_box,
         &sys.barriers,
-        &sys.potential,
+        interactions,
         order,
         sys.time,
     )
@@ -28,6 +33,12 @@ fn round_trip<const D: usize>(sys: &LoadedSystem<D>, order: ColumnOrder, text: &
     assert_eq!(again.barriers, sys.barriers);
     assert_eq!(again.time, sys.time);
     assert_eq!(again.potential, sys.potential);
+    assert_eq!(again.reactions, sys.reactions);
+    for (a, b) in again.reactions.iter().zip(&sys.reactions) {
+        let bits =
+            |r: &edmd_core::Reaction| [r.activation, r.probability, r.heat].map(f64::to_bits);
+        assert_eq!(bits(a), bits(b), "a rule's numbers are not written exactly");
+    }
     check_loaded(sys, text);
 }
 

@@ -11,8 +11,8 @@ use arbitrary::{Result, Unstructured};
 use edmd_core::pack::Packer;
 use edmd_core::{
     Barrier, Boundary, CollisionRule, Demon, Disc, EventKind, EventRecord, MultiContact, Observer,
-    Options, OverlapPolicy, PairSteps, Potential, SimBox, Simulation, Step, Vector,
-    OVERLAP_TOLERANCE,
+    Options, OverlapPolicy, PairSteps, Potential, Reaction, Reactions, SimBox, Simulation, Step,
+    Vector, OVERLAP_TOLERANCE,
 };
 
 /// The longest box axis over the shortest that the targets build (known defect 1).
@@ -65,6 +65,9 @@ pub struct Setup<const D: usize> {
     pub events: u64,
     /// A stepped pair potential (elastic runs without multi-disc collisions), or hard cores.
     pub potential: Option<Potential>,
+    /// Reaction rules (elastic runs without multi-disc collisions or a potential), with the
+    /// discs' species drawn for them.
+    pub reactions: Option<Reactions>,
 }
 
 /// A random valid system: box lengths within [`MAX_ASPECT`], walls or periodic per axis, up to
@@ -247,6 +250,55 @@ pub fn setup<const D: usize>(u: &mut Unstructured, max_n: usize) -> Result<Setup
             }],
         });
     }
+    // Drawn after the potential, for the same reason: a third of the other elastic systems
+    // react, their discs of species 0 to 2, one to three rules among species 0 to 3 (one per
+    // pair), activation energies from none to twice the largest kinetic energy scale,
+    // probabilities of 1 or less, heat released or absorbed on that scale, or none.
+    let mut reactions = None;
+    if rule == CollisionRule::Elastic && multi.is_none() && potential.is_none() && u.ratio(1, 3)? {
+        for d in &mut discs {
+            d.species = u.int_in_range(0..=2u16)?;
+        }
+        let scale = vmax * vmax;
+        let mut rules: Vec<Reaction> = Vec::new();
+        for _ in 0..u.int_in_range(1..=3u8)? {
+            let (a, b) = (u.int_in_range(0..=3u16)?, u.int_in_range(0..=3u16)?);
+            let products = (u.int_in_range(0..=3u16)?, u.int_in_range(0..=3u16)?);
+            let activation = if u.arbitrary::<bool>()? {
+                0.0
+            } else {
+                2.0 * scale * unit(u)?
+            };
+            let probability = if u.arbitrary::<bool>()? {
+                1.0
+            } else {
+                unit(u)?
+            };
+            let heat = match u.int_in_range(0..=2u8)? {
+                0 => 0.0,
+                _ => scale * (2.0 * unit(u)? - 1.0),
+            };
+            if rules
+                .iter()
+                .all(|r| r.reactants != (a, b) && r.reactants != (b, a))
+            {
+                rules.push(Reaction {
+                    reactants: (a, b),
+                    products,
+                    activation,
+                    probability,
+                    heat,
+                });
+            }
+        }
+        let mut r = Reactions {
+            rules,
+            seed: u.arbitrary()?,
+            colours: Vec::new(),
+        };
+        r.fill_colours(discs.iter().map(|d| (d.species, d.colour)));
+        reactions = Some(r);
+    }
     Ok(Setup {
         discs,
         sim_box,
@@ -254,6 +306,7 @@ pub fn setup<const D: usize>(u: &mut Unstructured, max_n: usize) -> Result<Setup
         options,
         events,
         potential,
+        reactions,
     })
 }
 
@@ -281,13 +334,17 @@ fn fits<const D: usize>(
     inside && clear_of_barriers && clear_of_discs
 }
 
-/// Watches events: times finite and never decreasing, and a count per kind.
+/// Watches events: times finite and never decreasing, a count per kind, and a reaction's
+/// discs of its products' species.
 #[derive(Debug, Default)]
 pub struct Watch {
     /// Time of the last event seen.
     pub last: f64,
-    /// Disc-disc, wall, cell-crossing and barrier events seen.
+    /// Disc-disc (reactions included), wall, cell-crossing, barrier, step, thermostat and
+    /// neighbour-list events seen.
     pub counts: [u64; 7],
+    /// Reactions seen.
+    pub reactions: u64,
 }
 
 impl<const D: usize> Observer<D> for Watch {
@@ -306,6 +363,20 @@ impl<const D: usize> Observer<D> for Watch {
         );
         assert!(e.impulse.is_finite(), "impulse {:?}", e.impulse);
         self.last = e.time;
+        if let EventKind::Reaction { i, j, rule } = e.kind {
+            let r = sim.reactions().expect("a reaction without rules").rules[rule];
+            let (mut made, mut now) = (
+                [r.products.0, r.products.1],
+                [sim.species(i), sim.species(j)],
+            );
+            made.sort_unstable();
+            now.sort_unstable();
+            assert_eq!(
+                now, made,
+                "a reaction's discs are not of its products' species"
+            );
+            self.reactions += 1;
+        }
         let k = match e.kind {
             EventKind::DiscDisc { .. } | EventKind::Reaction { .. } => 0,
             EventKind::Wall { .. } => 1,
@@ -323,7 +394,10 @@ impl<const D: usize> Observer<D> for Watch {
 /// events seen, energy conserved (and momentum in a fully periodic box), no overlaps, no disc
 /// outside the box, the clock not gone back. Returns the events run.
 pub fn run_checked<const D: usize>(sim: &mut Simulation<D>, events: u64) -> u64 {
-    let energy = |sim: &Simulation<D>| sim.kinetic_energy() + sim.potential_energy();
+    // Reactions release their heat into the kinetic energy: the energy less the heat released
+    // is conserved.
+    let energy =
+        |sim: &Simulation<D>| sim.kinetic_energy() + sim.potential_energy() - sim.reaction_heat();
     let e0 = energy(sim);
     // Steps exchange kinetic energy with the potential's: the drift is judged against the
     // largest of the energies, at the start and now.
@@ -339,12 +413,14 @@ pub fn run_checked<const D: usize>(sim: &mut Simulation<D>, events: u64) -> u64 
     let mut watch = Watch {
         last: sim.time(),
         counts: [0; 7],
+        reactions: 0,
     };
     let mut done = 0;
     while done < events {
         let chunk = (events - done).min(97);
         let before = sim.stats();
         let seen = watch.counts;
+        let reactions_seen = watch.reactions;
         let k = sim.run_events(chunk, &mut watch);
         done += k;
         let after = sim.stats();
@@ -367,6 +443,16 @@ pub fn run_checked<const D: usize>(sim: &mut Simulation<D>, events: u64) -> u64 
             moved.iter().sum::<u64>(),
             k,
             "run_events counted other than the events"
+        );
+        assert_eq!(
+            after.reaction - before.reaction,
+            watch.reactions - reactions_seen,
+            "reactions counted other than those seen"
+        );
+        assert_eq!(
+            sim.reaction_counts().iter().sum::<u64>(),
+            after.reaction,
+            "the rules' counts do not add up to the reactions"
         );
         assert!(after.stale >= before.stale);
         assert!(
@@ -426,6 +512,9 @@ pub fn engine<const D: usize>(data: &[u8], max_n: usize) {
     let Ok(mut sim) = built else {
         return;
     };
+    if sim.set_reactions(s.reactions.clone()).is_err() {
+        return;
+    }
     let first = run_checked(&mut sim, s.events / 2);
     let ck = sim.to_checkpoint(b"fuzz");
     let (mut copy, extra) = Simulation::<D>::from_checkpoint(&ck).expect("own checkpoint");
@@ -473,6 +562,8 @@ pub fn check_loaded<const D: usize>(sys: &edmd_io::LoadedSystem<D>, text: &str) 
         return;
     }
     let refuse = Options::default();
+    // The rules the reader accepts, the engine takes (with the elastic rule).
+    let reactions = (!sys.reactions.is_empty()).then(|| Reactions::new(sys.reactions.clone()));
     let build = |options| {
         Simulation::with_potential_at(
             &sys.discs,
@@ -482,6 +573,11 @@ pub fn check_loaded<const D: usize>(sys: &edmd_io::LoadedSystem<D>, text: &str) 
             options,
             0.0,
         )
+        .map(|mut sim| {
+            sim.set_reactions(reactions.clone())
+                .expect("rules the reader accepted");
+            sim
+        })
     };
     let _ = build(refuse);
     if !discs_are_tame(&sys.discs, &sys.sim_box) || sys.discs.len() > 5000 {
@@ -495,6 +591,7 @@ pub fn check_loaded<const D: usize>(sys: &edmd_io::LoadedSystem<D>, text: &str) 
         sim.run_events(64, &mut ());
         // A stepped potential's energy is a sum of its steps' energies over the pairs.
         assert!(sim.potential_energy().is_finite());
+        assert!(sim.reaction_heat().is_finite());
     }
 }
 
@@ -721,6 +818,53 @@ mod tests {
         }
     }
 
+    /// Writes the checkpoint seeds with reaction rules (format 6: the rules, their seed and
+    /// colours, the heat released and the counts), payloads after a mode byte: reactive fluids
+    /// in 2D and 3D run until some of their discs have reacted. Run with
+    /// `cargo test --manifest-path fuzz/Cargo.toml -- --ignored write_reaction_seeds`.
+    #[test]
+    #[ignore]
+    fn write_reaction_seeds() {
+        use edmd_core::setup::lattice_fluid_in;
+        let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/corpus/read_checkpoint");
+        fn reactive<const D: usize>(n: usize, eta: f64) -> Vec<u8> {
+            let (mut discs, bx) = lattice_fluid_in::<D>(n, eta, Boundary::Periodic, 3).unwrap();
+            for (k, d) in discs.iter_mut().enumerate() {
+                d.species = (k % 3) as u16;
+            }
+            let mut sim = Simulation::new(&discs, bx, Options::default()).unwrap();
+            let rule = |a, b, c, d, activation, probability, heat| Reaction {
+                reactants: (a, b),
+                products: (c, d),
+                activation,
+                probability,
+                heat,
+            };
+            let mut r = Reactions {
+                rules: vec![
+                    rule(0, 1, 2, 3, 0.5, 1.0, 0.25),
+                    rule(2, 2, 0, 1, 1.0, 0.5, -0.5),
+                    rule(3, 1, 1, 1, 0.0, 0.3, 0.0),
+                ],
+                seed: 7,
+                colours: vec![(3, [10, 200, 30])],
+            };
+            r.fill_colours(discs.iter().map(|d| (d.species, d.colour)));
+            sim.set_reactions(Some(r)).unwrap();
+            sim.run_events(40 * n as u64, &mut ());
+            assert!(sim.stats().reaction > 0);
+            sim.to_checkpoint(b"")
+        }
+        for (name, dim, ck) in [
+            ("seed-reactions-2d", 2u8, reactive::<2>(24, 0.4)),
+            ("seed-reactions-3d", 3u8, reactive::<3>(32, 0.3)),
+        ] {
+            let mut seed = vec![dim - 2];
+            seed.extend_from_slice(&ck[CHECKPOINT_HEADER..ck.len() - 4]);
+            std::fs::write(format!("{dir}/{name}"), seed).unwrap();
+        }
+    }
+
     /// Writes the packing checkpoint seed corpus (payloads after a mode byte): run with
     /// `cargo test --manifest-path fuzz/Cargo.toml -- --ignored write_pack_seed_corpus`.
     #[test]
@@ -806,7 +950,8 @@ mod tests {
     fn show_setup<const D: usize>(data: &[u8], max_n: usize) {
         let s = setup::<D>(&mut Unstructured::new(data), max_n).unwrap();
         println!("{s:#?}");
-        let sim = Simulation::with_barriers(&s.discs, s.sim_box, &s.barriers, s.options);
+        let sim = Simulation::with_barriers(&s.discs, s.sim_box, &s.barriers, s.options)
+            .and_then(|mut sim| sim.set_reactions(s.reactions.clone()).map(|()| sim));
         match sim {
             Ok(sim) => show_run(sim, s.events),
             Err(e) => println!("refused: {e}"),

@@ -40,7 +40,7 @@ pub enum Command {
         args: Vec<String>,
     },
     /// Generate a configuration (the Princeton data sets, fluids, mixtures).
-    Gen(edmd::gen::GenArgs),
+    Gen(edmd::gen::GenCommand),
     /// Compress to a jammed packing (Lubachevsky-Stillinger: the particles grow while they
     /// move), or to a packing fraction below jamming.
     Pack(edmd::pack::PackArgs),
@@ -104,8 +104,9 @@ pub struct RunArgs {
     #[arg(long, value_name = "DT", value_parser = parse_positive, requires = "trajectory", allow_negative_numbers = true)]
     pub every: Option<f64>,
     /// Attach measurements (comma-separated): temperature, pressure, collisions, speeds, msd,
-    /// species. Their summaries go into the run's summary, and their time series to CSV files
-    /// in --out-dir when it is given (none are written without it).
+    /// species, energy, rdf, kinetics (species counts over time and the reaction rules' rate
+    /// constants). Their summaries go into the run's summary, and their time series to CSV
+    /// files in --out-dir when it is given (none are written without it).
     #[arg(long, value_enum, value_delimiter = ',')]
     pub measure: Vec<edmd::measure::Measure>,
     /// Interval between measurement samples (default: a hundredth of the run's length). With
@@ -134,8 +135,10 @@ pub struct RunArgs {
     /// Redraws per particle per unit time, with --thermostat.
     #[arg(long, value_name = "NU", value_parser = parse_positive, requires = "thermostat", allow_negative_numbers = true)]
     pub rate: Option<f64>,
-    /// Seed of the thermostat's redraws (default 1), with --thermostat.
-    #[arg(long, requires = "thermostat")]
+    /// Seed of the random draws (default 1): the thermostat's redraws (--thermostat) and the
+    /// draws of reaction rules whose probability is below 1 (a file's '# edmd reaction'
+    /// lines). Carried by checkpoints.
+    #[arg(long)]
     pub seed: Option<u64>,
 }
 
@@ -146,7 +149,7 @@ impl RunArgs {
             (Some(ThermostatArg::Andersen), Some(kt), Some(rate)) => Some(edmd_core::Andersen {
                 kt,
                 rate,
-                seed: self.seed.unwrap_or(1),
+                seed: self.seed.unwrap_or(edmd::input::DEFAULT_SEED),
             }),
             _ => None,
         }

@@ -91,6 +91,151 @@ fn malformed_princeton_files() {
     refused("1\n1 2 3\n", "bad.txt:2: expected 9 fields");
 }
 
+/// Reaction rules that cannot be: each refused at its line, with what is wrong.
+#[test]
+fn malformed_reaction_rules() {
+    let discs = "0.3 0.5 0.01 0 0.05 1 1 2 3 0\n0.7 0.5 0 0 0.05 1 1 2 3 1\n";
+    let with = |rules: &str| format!("2\n{rules}{discs}");
+    for (rules, expect) in [
+        (
+            "# edmd reaction 0 + 1 -> 2 + 2 probability 1.5\n",
+            "bad.txt:2: reaction: the probability must be in [0, 1], found 1.5",
+        ),
+        (
+            "# edmd reaction 0 + 1 -> 2 + 2 activation -1\n",
+            "bad.txt:2: reaction: the activation energy must be >= 0, found -1",
+        ),
+        (
+            "# edmd reaction 0 + 1 -> 2 + 2 heat inf\n",
+            "bad.txt:2: reaction: heat must be a finite number, found 'inf'",
+        ),
+        (
+            "# edmd reaction 0 + 1 -> 2 + 2 activation NaN\n",
+            "bad.txt:2: reaction: activation must be a finite number, found 'NaN'",
+        ),
+        (
+            "# edmd reaction 0 + 5 -> 2 + 2\n",
+            "bad.txt:2: reaction: no disc is of species 5 and no rule makes it",
+        ),
+        (
+            "# edmd reaction 0 + 1 -> 2 + 2\n# edmd reaction 1 + 0 -> 1 + 1\n",
+            "bad.txt:3: a second reaction rule for species 1 and 0 (the first is line 2)",
+        ),
+        (
+            "# edmd reaction A + B -> C + D\n",
+            "bad.txt:2: reaction: expected 'A + B -> C + D",
+        ),
+        (
+            "# edmd reaction 0 + 1 -> 2 + 300\n",
+            "bad.txt:2: reaction: species must be whole numbers from 0 to 255, found '300'",
+        ),
+        (
+            "# edmd potential 0 1 0.2 -1\n# edmd reaction 0 + 1 -> 2 + 2\n",
+            "bad.txt:3: reaction rules do not go with a stepped potential (line 2)",
+        ),
+    ] {
+        refused(&with(rules), expect);
+    }
+}
+
+/// Rules with what they do not go with, and `--seed` with nothing to seed: one line naming the
+/// file, exit status 2, nothing written.
+#[test]
+fn reaction_rules_refuse_what_they_do_not_go_with() {
+    let dir = tempfile::tempdir().unwrap();
+    let f = write(
+        &dir,
+        "r.txt",
+        "2\n# edmd reaction 0 + 1 -> 2 + 2\n0.3 0.5 0.01 0 0.05 1 1 2 3 0\n0.7 0.5 0 0 0.05 1 1 2 3 1\n",
+    );
+    let plain = write(&dir, "plain.txt", "1\n0.5 0.5 0.01 0 0.05 1 1 2 3\n");
+    let out = dir.path().join("out.txt");
+    let out = out.to_str().unwrap();
+    for (args, expect) in [
+        (
+            vec!["run", &f, "--until", "1", "--rule", "swap", "-o", out],
+            "r.txt: reaction rules need the elastic rule (the file's '# edmd reaction' lines)",
+        ),
+        (
+            vec!["run", &f, "--until", "1", "--multi", "-o", out],
+            "r.txt: reaction rules do not go with multi-disc collisions",
+        ),
+        (
+            vec!["run", &plain, "--until", "1", "--seed", "3", "-o", out],
+            "plain.txt: --seed seeds the thermostat's redraws and the draws of reaction rules",
+        ),
+    ] {
+        let o = run("edmd", &args, None);
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(2), "{args:?}: {err}");
+        assert_eq!(err.lines().count(), 1, "{args:?}: {err}");
+        assert!(err.contains(expect), "{args:?}: {err}");
+        assert!(!std::path::Path::new(out).exists());
+    }
+}
+
+/// `edmd gen`'s species and reaction options: each mistake in one line, exit status 2, no file.
+#[test]
+fn bad_species_and_reaction_options_of_gen() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("g.txt");
+    let out = out.to_str().unwrap();
+    let gen = |extra: &[&str]| {
+        let mut args = vec!["gen", "fluid", "--n", "50", "-o", out];
+        args.extend_from_slice(extra);
+        args.into_iter().map(String::from).collect::<Vec<_>>()
+    };
+    let cases: Vec<(Vec<String>, &str)> = vec![
+        (gen(&["--species", "0.5,x"]), "each fraction must be a number >= 0, found 'x'"),
+        (gen(&["--species", "0.5,-0.5,1"]), "found '-0.5'"),
+        (gen(&["--species", "0.5,nan"]), "found 'nan'"),
+        (gen(&["--species", "0.5,0.4"]), "the fractions must sum to 1, and they sum to 0.9"),
+        (
+            gen(&["--species", "1", "--reaction", "0 + 2 -> 1 + 1"]),
+            "--reaction '0 + 2 -> 1 + 1': no disc is of species 2 and no rule makes it",
+        ),
+        (
+            gen(&["--reaction", "0 + 0 -> 1 + 1 probability 2"]),
+            "gen fluid: --reaction '0 + 0 -> 1 + 1 probability 2': the probability must be in [0, 1], found 2",
+        ),
+        (
+            gen(&["--reaction", "0 + 0 -> 1 + 1", "--reaction", "0 + 0 -> 2 + 2"]),
+            "a second rule for species 0 and 0",
+        ),
+        (
+            gen(&["--reaction", "0 + 0 -> 1 + 1", "--well", "1.5"]),
+            "--reaction does not go with --well or --shoulder",
+        ),
+        (
+            gen(&["--species", "0.5,0.5", "--shoulder", "1.5"]),
+            "--species does not go with --well or --shoulder",
+        ),
+        (
+            ["gen", "lattice", "--species", "1", "-o", out]
+                .into_iter()
+                .map(String::from)
+                .collect(),
+            "gen lattice: --species applies to fluid",
+        ),
+        (
+            ["gen", "lattice", "--course", "--reaction", "0+0->0+0", "-o", out]
+                .into_iter()
+                .map(String::from)
+                .collect(),
+            "the course format has no place for reaction rules",
+        ),
+    ];
+    for (args, expect) in cases {
+        let args: Vec<&str> = args.iter().map(String::as_str).collect();
+        let o = run("edmd", &args, None);
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(2), "{args:?}: {err}");
+        assert_eq!(err.lines().count(), 1, "{args:?}: {err}");
+        assert!(err.contains(expect), "{args:?}: {err}");
+        assert!(!std::path::Path::new(out).exists(), "{args:?} wrote a file");
+    }
+}
+
 #[test]
 fn malformed_course_files() {
     refused(

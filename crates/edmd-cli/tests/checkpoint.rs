@@ -291,3 +291,85 @@ fn a_checkpoint_given_for_a_data_file_is_named_with_what_continues_it() {
     let out = run("edmd", &["pack", &run_ck, "-o", &p("x.txt")], None);
     crate::support::refused(&out, &["run.ck: a run checkpoint (edmd run continues it)"]);
 }
+
+/// A reactive run (rules with probabilities below 1, like reactants, heat released and taken)
+/// continued from its checkpoint ends where the uninterrupted run ends, bit for bit, with the
+/// same reactions, heat and kinetics; the checkpoint carries the rules and the seed of their
+/// draws, so `--seed` given again must be the same.
+#[test]
+fn a_reactive_run_continues_bit_for_bit() {
+    let dir = tempfile::tempdir().unwrap();
+    let p = |name: &str| dir.path().join(name).to_str().unwrap().to_string();
+    let f = p("r.txt");
+    ok_stdout(&run(
+        "edmd",
+        &[
+            "gen",
+            "fluid",
+            "--n",
+            "300",
+            "--packing",
+            "0.35",
+            "--boundary",
+            "periodic",
+            "--species",
+            "0.4,0.4,0.2",
+            "--reaction",
+            "0 + 1 -> 2 + 2 activation 0.8 probability 0.6 heat 0.3",
+            "--reaction",
+            "2 + 2 -> 0 + 1 activation 1.5 probability 0.7 heat -0.3",
+            "--reaction",
+            "1 + 1 -> 0 + 2 activation 1 probability 0.2",
+            "-o",
+            &f,
+        ],
+        None,
+    ));
+    let measure = [
+        "--measure",
+        "kinetics",
+        "--sample-every",
+        "0.5",
+        "--seed",
+        "9",
+    ];
+    let run_json = |args: &[&str]| {
+        let mut all = args.to_vec();
+        all.extend_from_slice(&measure);
+        all.push("--json");
+        summary(&run("edmd", &all, None))
+    };
+    let direct = run_json(&["run", &f, "--until", "12", "-o", &p("direct.txt")]);
+    run_json(&[
+        "run",
+        &f,
+        "--until",
+        "5.3",
+        "--checkpoint",
+        &p("ck"),
+        "--checkpoint-every",
+        "2",
+    ]);
+    let resumed = run_json(&["run", &p("ck"), "--until", "12", "-o", &p("resumed.txt")]);
+    for key in [
+        "disc_collisions",
+        "reactions",
+        "reaction_heat",
+        "measurements",
+    ] {
+        assert_eq!(resumed[key], direct[key], "{key}");
+    }
+    assert!(direct["reactions"][0]["reactions"].as_u64().unwrap() > 0);
+    assert!(
+        std::fs::read(p("resumed.txt")).unwrap() == std::fs::read(p("direct.txt")).unwrap(),
+        "final states differ"
+    );
+    refused(
+        &run(
+            "edmd",
+            &["run", &p("ck"), "--until", "12", "--seed", "8"],
+            None,
+        ),
+        &["--seed 8 differs", "--seed 9"],
+    );
+}

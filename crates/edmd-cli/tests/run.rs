@@ -457,3 +457,275 @@ fn a_closed_pipe_is_not_a_panic() {
     let out = child.wait_with_output().unwrap();
     assert!(!String::from_utf8_lossy(&out.stderr).contains("panicked"));
 }
+
+/// `edmd gen fluid --species ... --reaction ...` into `dir/name`: 400 discs at packing 0.3 in a
+/// periodic box, kT 1 (the generator's).
+fn reactive_fluid(dir: &tempfile::TempDir, name: &str, species: &str, rules: &[&str]) -> String {
+    let path = dir.path().join(name).to_str().unwrap().to_string();
+    let mut args = vec![
+        "gen",
+        "fluid",
+        "--n",
+        "400",
+        "--packing",
+        "0.3",
+        "--boundary",
+        "periodic",
+        "--species",
+        species,
+        "-o",
+        &path,
+    ];
+    for r in rules {
+        args.extend_from_slice(&["--reaction", r]);
+    }
+    ok_stdout(&run("edmd", &args, None));
+    path
+}
+
+/// A file's reaction rules make its run reactive: the summary counts each rule's reactions
+/// and the heat released, the energy less that heat is conserved, and the state written keeps
+/// the rules and the discs' new species (and reads back).
+#[test]
+fn reactive_runs_report_their_reactions_and_write_their_rules_back() {
+    let dir = tempfile::tempdir().unwrap();
+    let f = reactive_fluid(
+        &dir,
+        "r.txt",
+        "0.5,0.5",
+        &[
+            "0 + 1 -> 2 + 2 activation 1 heat 0.5",
+            "2+2->0+1 activation 2 probability 0.5 heat -0.5",
+        ],
+    );
+    let text = std::fs::read_to_string(&f).unwrap();
+    assert!(
+        text.contains("# edmd reaction 0 + 1 -> 2 + 2 activation 1.0 heat 0.5\n# edmd reaction 2 + 2 -> 0 + 1 activation 2.0 probability 0.5 heat -0.5\n"),
+        "{text}"
+    );
+    let out = dir.path().join("out.txt");
+    let s = summary(&run(
+        "edmd",
+        &[
+            "run",
+            &f,
+            "--until",
+            "10",
+            "-o",
+            out.to_str().unwrap(),
+            "--json",
+        ],
+        None,
+    ));
+    let rules = s["reactions"].as_array().unwrap();
+    assert_eq!(rules.len(), 2);
+    assert_eq!(rules[0]["rule"], "0 + 1 -> 2 + 2 activation 1.0 heat 0.5");
+    assert_eq!(rules[0]["reactants"], serde_json::json!([0, 1]));
+    let (forward, back) = (
+        rules[0]["reactions"].as_u64().unwrap(),
+        rules[1]["reactions"].as_u64().unwrap(),
+    );
+    assert!(forward > 50 && back > 0, "{s}");
+    // Each forward reaction releases 0.5, each backward one takes 0.5 back.
+    let heat = s["reaction_heat"].as_f64().unwrap();
+    assert_eq!(heat, 0.5 * (forward as f64 - back as f64));
+    assert!(
+        s["relative_energy_change"].as_f64().unwrap().abs() < 1e-12,
+        "{s}"
+    );
+    // The state written: the rules, and species 2 where the reactions made it (in its colour).
+    let written = std::fs::read_to_string(&out).unwrap();
+    assert!(written.contains("# edmd reaction 0 + 1 -> 2 + 2 activation 1.0 heat 0.5\n"));
+    let twos = written
+        .lines()
+        .filter(|l| !l.starts_with('#') && l.ends_with(" 2"))
+        .count() as u64;
+    assert_eq!(twos, 2 * (forward - back));
+    let green = written
+        .lines()
+        .filter(|l| l.ends_with(" 44 160 44 2"))
+        .count() as u64;
+    assert_eq!(green, twos, "species 2 takes its colour");
+    // It runs on, reactive, from the time it is at.
+    let again = summary(&run(
+        "edmd",
+        &["run", out.to_str().unwrap(), "--until", "12", "--json"],
+        None,
+    ));
+    assert_eq!(again["reactions"].as_array().unwrap().len(), 2);
+    // The human summary says it in a line.
+    let human = ok_stdout(&run("edmd", &["run", &f, "--until", "10"], None));
+    assert!(
+        human.contains(&format!(
+            "reactions: {forward} by 0 + 1 -> 2 + 2 activation 1.0 heat 0.5, {back} by 2 + 2 -> 0 + 1 activation 2.0 probability 0.5 heat -0.5; heat released {heat}"
+        )),
+        "{human}"
+    );
+}
+
+/// A rule whose activation energy no pair reaches never fires, and the run is the hard-disc run
+/// bit for bit: a collision the rules pass over is the elastic collision.
+#[test]
+fn rules_that_never_fire_change_nothing() {
+    let dir = tempfile::tempdir().unwrap();
+    let f = reactive_fluid(&dir, "plain.txt", "0.5,0.5", &[]);
+    let text = std::fs::read_to_string(&f).unwrap();
+    let reactive = text.replacen('\n', "\n# edmd reaction 0 + 1 -> 1 + 1 activation 1e6\n", 1);
+    let g = write(&dir, "never.txt", &reactive);
+    let state = |file: &str, out: &str| {
+        let o = dir.path().join(out);
+        let s = summary(&run(
+            "edmd",
+            &[
+                "run",
+                file,
+                "--until",
+                "20",
+                "-o",
+                o.to_str().unwrap(),
+                "--json",
+            ],
+            None,
+        ));
+        let text = std::fs::read_to_string(o).unwrap();
+        let discs: Vec<String> = text
+            .lines()
+            .filter(|l| !l.starts_with("# edmd reaction"))
+            .map(String::from)
+            .collect();
+        (s["disc_collisions"].clone(), discs)
+    };
+    let (plain_collisions, plain) = state(&f, "a.txt");
+    let (collisions, with_rules) = state(&g, "b.txt");
+    assert_eq!(collisions, plain_collisions);
+    assert!(
+        with_rules == plain,
+        "a rule that never fires changed the run"
+    );
+}
+
+/// `--measure kinetics` measures each rule's rate constant, which in an equilibrium fluid is
+/// the line-of-centres value, Enskog's collision rate per pair times `exp(-E*/kT)` (theory in
+/// `edmd_core::measure::theory::line_of_centres_rate_constant`; Present, *Kinetic Theory of
+/// Gases* (1958), section 8.2): the rule `0 + 1 -> 1 + 0` exchanges the species, so the
+/// fluid stays as it was. 2D discs at packing 0.3, kT 1, E* = 1: measured within three block
+/// errors plus 2% (the contact value of Henderson's equation of state; 400 discs), and the
+/// species counts, written to kinetics.csv at every sample, stay at 200 each.
+#[test]
+fn kinetics_measures_the_line_of_centres_rate_constant() {
+    use edmd::engine::measure::theory::line_of_centres_rate_constant;
+    let dir = tempfile::tempdir().unwrap();
+    let f = reactive_fluid(&dir, "eq.txt", "0.5,0.5", &["0 + 1 -> 1 + 0 activation 1"]);
+    let m = dir.path().join("m");
+    let s = summary(&run(
+        "edmd",
+        &[
+            "run",
+            &f,
+            "--until",
+            "200",
+            "--measure",
+            "kinetics,temperature",
+            "--sample-every",
+            "10",
+            "--out-dir",
+            m.to_str().unwrap(),
+            "--json",
+        ],
+        None,
+    ));
+    let meas = &s["measurements"];
+    let kt = meas["temperature"]["mean"].as_f64().unwrap();
+    assert!((kt - 1.0).abs() < 1e-9, "{kt}");
+    let kin = &meas["kinetics"];
+    assert_eq!(kin["samples"], 20);
+    assert_eq!(kin["counts"], serde_json::json!([200, 200]));
+    let rule = &kin["rules"][0];
+    assert_eq!(rule["rule"], "0 + 1 -> 1 + 0");
+    assert_eq!(rule["reactions"], s["reactions"][0]["reactions"]);
+    let k = &rule["rate_constant"];
+    let (value, error) = (k["value"].as_f64().unwrap(), k["error"].as_f64().unwrap());
+    assert_eq!(k["blocks"], 20);
+    let theory = line_of_centres_rate_constant(0.3, 1.0, kt, 1.0, 2, 1.0);
+    assert!(
+        (value - theory).abs() < 3.0 * error + 0.02 * theory,
+        "k = {value} +- {error}, theory {theory}"
+    );
+    assert!(error < 0.02 * theory, "{error}");
+    let csv = std::fs::read_to_string(m.join("kinetics.csv")).unwrap();
+    let mut lines = csv.lines();
+    assert_eq!(lines.next(), Some("time,species0,species1"));
+    let rows: Vec<&str> = lines.collect();
+    assert_eq!(rows.len(), 21);
+    assert!(rows.iter().all(|r| r.ends_with(",200.0,200.0")), "{csv}");
+}
+
+/// The draws of rules with a probability below 1 come from `--seed` (default 1): the same seed
+/// gives the same run, another seed another run.
+#[test]
+fn the_seed_of_the_draws_is_the_runs() {
+    let dir = tempfile::tempdir().unwrap();
+    let f = reactive_fluid(
+        &dir,
+        "p.txt",
+        "0.5,0.5",
+        &["0 + 1 -> 1 + 0 activation 0.5 probability 0.5"],
+    );
+    let out = |seed: Option<&str>, name: &str| {
+        let o = dir.path().join(name);
+        let mut args = vec!["run", &f, "--until", "5", "-o", o.to_str().unwrap()];
+        if let Some(s) = seed {
+            args.extend_from_slice(&["--seed", s]);
+        }
+        ok_stdout(&run("edmd", &args, None));
+        std::fs::read(o).unwrap()
+    };
+    let default = out(None, "a.txt");
+    assert!(
+        out(Some("1"), "b.txt") == default,
+        "--seed 1 is the default"
+    );
+    assert!(
+        out(Some("2"), "c.txt") != default,
+        "--seed 2 draws otherwise"
+    );
+}
+
+/// `edmd pack` compresses a file's particles, keeping their species, and writes the file's
+/// reaction rules with the packing, so that the denser system reacts as the file did.
+#[test]
+fn a_packing_keeps_its_files_reaction_rules() {
+    let dir = tempfile::tempdir().unwrap();
+    let f = reactive_fluid(&dir, "loose.txt", "0.5,0.5", &["0+1->1+1 activation 2"]);
+    let packed = dir.path().join("dense.txt");
+    let packed = packed.to_str().unwrap();
+    ok_stdout(&run(
+        "edmd",
+        &["pack", &f, "--packing", "0.5", "-o", packed],
+        None,
+    ));
+    let text = std::fs::read_to_string(packed).unwrap();
+    assert!(
+        text.contains("\n# edmd reaction 0 + 1 -> 1 + 1 activation 2.0\n"),
+        "{text}"
+    );
+    let species = |t: &str| {
+        let mut s: Vec<char> = t
+            .lines()
+            .filter(|l| !l.starts_with('#') && l.split_whitespace().count() == 10)
+            .map(|l| l.chars().last().unwrap())
+            .collect();
+        s.sort_unstable();
+        s
+    };
+    assert_eq!(
+        species(&text),
+        species(&std::fs::read_to_string(&f).unwrap())
+    );
+    let s = summary(&run(
+        "edmd",
+        &["run", packed, "--until", "1", "--json"],
+        None,
+    ));
+    assert_eq!(s["reactions"].as_array().unwrap().len(), 1);
+}

@@ -37,6 +37,7 @@ impl CourseSystem {
             format: Format::Course,
             time: 0.0,
             potential: Default::default(),
+            reactions: Vec::new(),
         }
     }
 }

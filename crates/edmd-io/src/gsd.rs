@@ -1192,6 +1192,7 @@ fn build<const D: usize>(
         format: Format::Princeton(ColumnOrder::RadiusMass),
         time,
         potential: Default::default(),
+        reactions: Vec::new(),
     };
     (system, images)
 }

@@ -3,7 +3,8 @@
 //! - [`course`]: the "Collisions" course format (`N`, `R`, `Lx Ly`, then `x y u v` per disc).
 //! - [`princeton`]: the Princeton CollisionSystem format (`N`, then
 //!   `rx ry vx vy radius mass r g b` per disc, in the unit box with walls), with edmd's
-//!   extension, which includes 3D files of spheres (`# edmd dim 3`).
+//!   extension, which includes 3D files of spheres (`# edmd dim 3`), stepped potentials and
+//!   reaction rules ([`reaction`]: the text of a rule).
 //! - [`xyz`]: extended XYZ trajectory frames, as read by OVITO and ASE.
 //! - [`gsd`]: HOOMD GSD frames, written and read (through the `hoomd-gsd` crate), so that
 //!   HOOMD-blue and edmd continue each other's systems.
@@ -17,12 +18,13 @@
 pub mod course;
 pub mod gsd;
 pub mod princeton;
+pub mod reaction;
 mod text;
 pub mod xyz;
 
 pub use text::ParseError;
 
-use edmd_core::{Barrier, Disc, Potential, SimBox};
+use edmd_core::{Barrier, Disc, Potential, Reaction, SimBox};
 
 /// A system read from a file, with the line each disc came from (`D = 3` for spheres).
 #[derive(Clone, Debug, PartialEq)]
@@ -42,6 +44,35 @@ pub struct LoadedSystem<const D: usize = 2> {
     pub time: f64,
     /// The stepped pair potential (`# edmd potential`; none: hard cores alone).
     pub potential: Potential,
+    /// The reaction rules (`# edmd reaction`, in file order; none: collisions never react).
+    /// Only the Princeton format holds them.
+    pub reactions: Vec<Reaction>,
+}
+
+/// How particles interact besides their hard cores, as the Princeton format's directives say
+/// it: the stepped potential and the reaction rules.
+#[derive(Clone, Copy, Debug)]
+pub struct Interactions<'a> {
+    /// The stepped pair potential (no pairs: hard cores).
+    pub potential: &'a Potential,
+    /// The reaction rules (none: collisions never react).
+    pub reactions: &'a [Reaction],
+}
+
+/// Hard cores with no steps, for [`Interactions::HARD`].
+static NO_STEPS: Potential = Potential { pairs: Vec::new() };
+
+impl Interactions<'_> {
+    /// Hard cores alone, no reactions.
+    pub const HARD: Interactions<'static> = Interactions {
+        potential: &NO_STEPS,
+        reactions: &[],
+    };
+
+    /// Whether there is nothing besides hard cores.
+    pub fn is_hard(&self) -> bool {
+        self.potential.is_hard() && self.reactions.is_empty()
+    }
 }
 
 /// The input formats.
@@ -148,10 +179,35 @@ pub fn write_with<const D: usize>(
     format: Format,
     time: f64,
 ) -> std::io::Result<()> {
-    if format == Format::Course && !potential.is_hard() {
+    let interactions = Interactions {
+        potential,
+        reactions: &[],
+    };
+    write_full(out, discs, sim_box, barriers, interactions, format, time)
+}
+
+/// [`write`] with the stepped potential and the reaction rules (the Princeton format keeps
+/// them as `# edmd potential` and `# edmd reaction` lines; the course format has no place for
+/// either: an `InvalidInput` error).
+pub fn write_full<const D: usize>(
+    out: &mut impl std::io::Write,
+    discs: &[Disc<D>],
+    sim_box: &SimBox<D>,
+    barriers: &[Barrier],
+    interactions: Interactions,
+    format: Format,
+    time: f64,
+) -> std::io::Result<()> {
+    if format == Format::Course && !interactions.potential.is_hard() {
         return Err(std::io::Error::new(
             std::io::ErrorKind::InvalidInput,
             "the course format has no place for a stepped potential",
+        ));
+    }
+    if format == Format::Course && !interactions.reactions.is_empty() {
+        return Err(std::io::Error::new(
+            std::io::ErrorKind::InvalidInput,
+            "the course format has no place for reaction rules",
         ));
     }
     match format {
@@ -168,7 +224,7 @@ pub fn write_with<const D: usize>(
             "the course format holds 2D systems only",
         )),
         Format::Princeton(order) => {
-            princeton::write_with(out, discs, sim_box, barriers, potential, order, time)
+            princeton::write_full(out, discs, sim_box, barriers, interactions, order, time)
         }
     }
 }

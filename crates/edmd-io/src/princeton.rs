@@ -25,6 +25,15 @@
 //!     at distances `R1 < R2 < ...`, where the pair's energy changes by `Ek` as it moves inward
 //!     across `Rk` (`# edmd potential 0 0 1.5 -1` is a square well of depth 1 out to 1.5, `1.5
 //!     1` a shoulder of height 1); one line per pair of species;
+//!   - `# edmd reaction A + B -> C + D [activation E] [probability P] [heat Q]`: a reaction
+//!     rule (see `edmd_core::Reaction` and [`crate::reaction`] for the grammar): a disc of
+//!     species `A` colliding with one of `B` with at least `E` of kinetic energy in their
+//!     relative motion along the line of centres (default 0) becomes `C` and the other `D`,
+//!     with probability `P` (default 1), and `Q` is released into their normal relative motion
+//!     (default 0); one line per rule, at most one rule per pair of species (`A + B` and
+//!     `B + A` are one pair). Every reactant must be a species some disc has or some rule
+//!     makes, and rules do not go with a stepped potential. The draws' seed is not in the file:
+//!     it is a run's (`edmd run --seed`), as the thermostat's is;
 //! - an optional tenth column on any disc line: the species, a whole number (default 0);
 //! - `# edmd dim 3` (before the first disc line): a 3D file of spheres. Disc lines are then
 //!   `rx ry rz vx vy vz radius mass r g b [species]` (mass before radius with
@@ -32,10 +41,12 @@
 //!   `# edmd box LX LY LZ` takes three lengths and `# edmd boundary` one word or three;
 //!   barriers are 2D only. `# edmd dim 2` is allowed and changes nothing.
 
-use edmd_core::{Barrier, Boundary, Demon, Disc, PairSteps, Potential, SimBox, Step, Vector};
+use edmd_core::{
+    Barrier, Boundary, Demon, Disc, PairSteps, Potential, Reaction, SimBox, Step, Vector,
+};
 
 use crate::text::{count, err, exact, expect_end, number, Lines};
-use crate::{Format, LoadedSystem, ParseError};
+use crate::{Format, Interactions, LoadedSystem, ParseError};
 
 /// Order of the radius and mass columns.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -206,18 +217,35 @@ pub fn parse_in<const D: usize>(
         at.push(line);
     }
     expect_end(&mut lines, n)?;
-    let (sim_box, barriers, time, potential) = directives::<D>(&lines.directives)?;
-    check_potential(&potential, &discs)?;
+    let d = directives::<D>(&lines.directives)?;
+    check_potential(&d.potential, &discs)?;
+    // The engine keeps a potential's tables per pair of the species present, so a disc's
+    // species bounds them as the directive's do.
+    if let Some((first, _)) = d.potential.first() {
+        let most = edmd_core::state::MAX_POTENTIAL_SPECIES;
+        if let Some(k) = discs.iter().position(|x| x.species >= most) {
+            return Err(err(
+                at[k],
+                format!(
+                    "species {}: with a stepped potential (line {first}) species go from 0 to {}",
+                    discs[k].species,
+                    most - 1
+                ),
+            ));
+        }
+    }
+    check_reactions(&d.reactions, &d.potential, &discs)?;
     Ok(LoadedSystem {
         discs,
-        sim_box,
-        barriers,
+        sim_box: d.sim_box,
+        barriers: d.barriers,
         lines: at,
         format: Format::Princeton(order),
-        time,
+        time: d.time,
         potential: Potential {
-            pairs: potential.into_iter().map(|(_, p)| p).collect(),
+            pairs: d.potential.into_iter().map(|(_, p)| p).collect(),
         },
+        reactions: d.reactions.into_iter().map(|(_, r)| r).collect(),
     })
 }
 
@@ -232,13 +260,20 @@ fn dim_line(text: &str) -> Option<usize> {
         .map(|(l, _)| *l)
 }
 
+/// What the `# edmd` directives say, the potential's pairs and the rules with their lines.
+struct Directives<const D: usize> {
+    sim_box: SimBox<D>,
+    barriers: Vec<Barrier>,
+    time: f64,
+    potential: Vec<(usize, PairSteps)>,
+    reactions: Vec<(usize, Reaction)>,
+}
+
 /// Interprets the `# edmd` directives.
-#[allow(clippy::type_complexity)]
-fn directives<const D: usize>(
-    list: &[(usize, Vec<&str>)],
-) -> Result<(SimBox<D>, Vec<Barrier>, f64, Vec<(usize, PairSteps)>), ParseError> {
+fn directives<const D: usize>(list: &[(usize, Vec<&str>)]) -> Result<Directives<D>, ParseError> {
     let mut sim_box = SimBox::<D>::walls([1.0; D]);
     let mut potential: Vec<(usize, PairSteps)> = Vec::new();
+    let mut reactions: Vec<(usize, Reaction)> = Vec::new();
     let mut barriers = Vec::new();
     let mut time = 0.0;
     let mut seen_time: Option<usize> = None;
@@ -310,6 +345,23 @@ fn directives<const D: usize>(
                 }
                 potential.push((line, pair));
             }
+            Some("reaction") => {
+                let r = crate::reaction::parse(&w[1..])
+                    .map_err(|e| err(line, format!("reaction: {e}")))?;
+                let (a, b) = r.reactants;
+                if let Some((first, _)) = reactions
+                    .iter()
+                    .find(|(_, q)| q.reactants == (a, b) || q.reactants == (b, a))
+                {
+                    return Err(err(
+                        line,
+                        format!(
+                            "a second reaction rule for species {a} and {b} (the first is line {first}); give each pair one rule"
+                        ),
+                    ));
+                }
+                reactions.push((line, r));
+            }
             Some("barrier") if D != 2 => return Err(err(line, "barriers exist in 2D files only")),
             Some("barrier") => barriers.push(barrier(line, &w[1..])?),
             // Read before the discs by `declared_dim`.
@@ -317,13 +369,19 @@ fn directives<const D: usize>(
             Some(other) => {
                 return Err(err(
                     line,
-                    format!("unknown edmd directive '{other}' (dim, box, boundary, barrier, time, potential)"),
+                    format!("unknown edmd directive '{other}' (dim, box, boundary, barrier, time, potential, reaction)"),
                 ))
             }
             None => return Err(err(line, "empty edmd directive")),
         }
     }
-    Ok((sim_box, barriers, time, potential))
+    Ok(Directives {
+        sim_box,
+        barriers,
+        time,
+        potential,
+        reactions,
+    })
 }
 
 /// `A B R1 E1 [R2 E2 ...]`: species, then steps in increasing radius.
@@ -404,6 +462,39 @@ fn check_potential<const D: usize>(
     Ok(())
 }
 
+/// Refuses, at its line, a rule with a reactant that no disc is and no rule makes (it could
+/// never happen: most likely a mistyped species), and rules beside a stepped potential (whose
+/// pairs' steps are per species, so a reaction would move a pair to another potential).
+fn check_reactions<const D: usize>(
+    reactions: &[(usize, Reaction)],
+    potential: &[(usize, PairSteps)],
+    discs: &[Disc<D>],
+) -> Result<(), ParseError> {
+    if let (Some((line, _)), Some((first, _))) = (reactions.first(), potential.first()) {
+        return Err(err(
+            *line,
+            format!(
+                "reaction rules do not go with a stepped potential (line {first}): a reaction would change a pair's steps"
+            ),
+        ));
+    }
+    let made: Vec<u16> = reactions
+        .iter()
+        .flat_map(|(_, r)| [r.products.0, r.products.1])
+        .collect();
+    for (line, r) in reactions {
+        for s in [r.reactants.0, r.reactants.1] {
+            if !made.contains(&s) && !discs.iter().any(|d| d.species == s) {
+                return Err(err(
+                    *line,
+                    format!("reaction: no disc is of species {s} and no rule makes it"),
+                ));
+            }
+        }
+    }
+    Ok(())
+}
+
 /// `AXIS POSITION [door LO HI [demon FAST SLOW]]`.
 fn barrier(line: usize, w: &[&str]) -> Result<Barrier, ParseError> {
     let usage = "expected 'barrier x|y POSITION [door LO HI [demon FAST SLOW]]'";
@@ -471,6 +562,32 @@ pub fn write_with<const D: usize>(
     order: ColumnOrder,
     time: f64,
 ) -> std::io::Result<()> {
+    write_full(
+        out,
+        discs,
+        sim_box,
+        barriers,
+        Interactions {
+            potential,
+            reactions: &[],
+        },
+        order,
+        time,
+    )
+}
+
+/// [`write`] with the stepped potential and the reaction rules, written as `# edmd potential`
+/// and `# edmd reaction` lines.
+pub fn write_full<const D: usize>(
+    out: &mut impl std::io::Write,
+    discs: &[Disc<D>],
+    sim_box: &SimBox<D>,
+    barriers: &[Barrier],
+    interactions: Interactions,
+    order: ColumnOrder,
+    time: f64,
+) -> std::io::Result<()> {
+    let potential = interactions.potential;
     writeln!(out, "{}", discs.len())?;
     if D != 2 {
         writeln!(out, "# edmd dim {D}")?;
@@ -520,6 +637,9 @@ pub fn write_with<const D: usize>(
             write!(out, " {} {}", exact(s.radius), exact(s.energy))?;
         }
         writeln!(out)?;
+    }
+    for r in interactions.reactions {
+        writeln!(out, "# edmd reaction {}", crate::reaction::text(r))?;
     }
     let with_species = discs.iter().any(|d| d.species != 0);
     for d in discs {
@@ -590,6 +710,164 @@ mod tests {
                 .to_string();
             assert!(e.contains(what), "{bad}: {e}");
         }
+    }
+
+    /// `# edmd reaction` lines are read in file order, written back exactly (only the options
+    /// that differ from their defaults), and a file without them is written without them.
+    #[test]
+    fn reaction_rules_are_read_and_written_back() {
+        let text = "3\n# edmd box 4 4\n# edmd reaction 0 + 1 -> 2 + 2 activation 1.5 probability 0.5\n# edmd reaction 2+2->0+1 heat -0.25\n1 1 0 0 .5 1 0 0 0\n3 1 0 0 .5 1 0 0 0 1\n1 3 0 0 .5 1 0 0 0\n# edmd reaction 1 + 1 -> 1 + 1\n";
+        let s = parse(text, ColumnOrder::default()).unwrap();
+        let rule = |a, b, c, d, activation, probability, heat| Reaction {
+            reactants: (a, b),
+            products: (c, d),
+            activation,
+            probability,
+            heat,
+        };
+        assert_eq!(
+            s.reactions,
+            vec![
+                rule(0, 1, 2, 2, 1.5, 0.5, 0.0),
+                rule(2, 2, 0, 1, 0.0, 1.0, -0.25),
+                rule(1, 1, 1, 1, 0.0, 1.0, 0.0),
+            ]
+        );
+        let mut out = Vec::new();
+        let interactions = Interactions {
+            potential: &s.potential,
+            reactions: &s.reactions,
+        };
+        write_full(
+            &mut out,
+            &s.discs,
+            &s.sim_box,
+            &[],
+            interactions,
+            ColumnOrder::default(),
+            0.0,
+        )
+        .unwrap();
+        let written = String::from_utf8(out).unwrap();
+        assert!(
+            written.contains("# edmd reaction 0 + 1 -> 2 + 2 activation 1.5 probability 0.5\n# edmd reaction 2 + 2 -> 0 + 1 heat -0.25\n# edmd reaction 1 + 1 -> 1 + 1\n"),
+            "{written}"
+        );
+        let back = parse(&written, ColumnOrder::default()).unwrap();
+        assert_eq!(back.reactions, s.reactions);
+        assert_eq!(back.discs, s.discs);
+        assert!(parse(TWO, ColumnOrder::default())
+            .unwrap()
+            .reactions
+            .is_empty());
+        // 3D files take them too.
+        let three = "1\n# edmd dim 3\n# edmd reaction 0 + 0 -> 1 + 1\n.5 .5 .5 0 0 0 .1 1 0 0 0\n";
+        assert_eq!(
+            parse_in::<3>(three, ColumnOrder::default())
+                .unwrap()
+                .reactions
+                .len(),
+            1
+        );
+        // The course format has no place for them.
+        let e = crate::write_full(
+            &mut Vec::new(),
+            &s.discs,
+            &s.sim_box,
+            &[],
+            interactions,
+            Format::Course,
+            0.0,
+        )
+        .unwrap_err();
+        assert!(e.to_string().contains("reaction rules"), "{e}");
+    }
+
+    /// Every refusal names the rule's line and the problem: malformed rules, values out of
+    /// range, two rules for one pair (either way round), a reactant nothing is or becomes, and
+    /// rules beside a stepped potential.
+    #[test]
+    fn bad_reaction_rules_name_their_line() {
+        let discs = ".5 .5 0 0 .1 1 0 0 0\n.2 .2 0 0 .1 1 0 0 0 1\n";
+        let cases: &[(&str, usize, &str)] = &[
+            ("# edmd reaction", 2, "reaction: expected 'A + B -> C + D"),
+            (
+                "# edmd reaction A + B -> C + D",
+                2,
+                "reaction: expected 'A + B -> C + D",
+            ),
+            (
+                "# edmd reaction 0 + 1 -> 2",
+                2,
+                "reaction: expected 'A + B -> C + D",
+            ),
+            (
+                "# edmd reaction 0 + 1 -> 2 + 999",
+                2,
+                "from 0 to 255, found '999'",
+            ),
+            (
+                "# edmd reaction 0 + 1 -> 2 + 2 activation -1",
+                2,
+                "activation energy must be >= 0",
+            ),
+            (
+                "# edmd reaction 0 + 1 -> 2 + 2 activation inf",
+                2,
+                "finite number",
+            ),
+            (
+                "# edmd reaction 0 + 1 -> 2 + 2 probability 2",
+                2,
+                "probability must be in [0, 1]",
+            ),
+            (
+                "# edmd reaction 0 + 1 -> 2 + 2 probability NaN",
+                2,
+                "finite number",
+            ),
+            (
+                "# edmd reaction 0 + 1 -> 2 + 2 heat nan",
+                2,
+                "finite number",
+            ),
+            (
+                "# edmd reaction 0 + 1 -> 2 + 2 speed 1",
+                2,
+                "unknown word 'speed'",
+            ),
+            (
+                "# edmd reaction 0 + 1 -> 2 + 2\n# edmd reaction 1 + 0 -> 3 + 3",
+                3,
+                "a second reaction rule for species 1 and 0 (the first is line 2)",
+            ),
+            (
+                "# edmd reaction 0 + 7 -> 2 + 2",
+                2,
+                "no disc is of species 7 and no rule makes it",
+            ),
+            (
+                "# edmd potential 0 0 0.5 -1\n# edmd reaction 0 + 1 -> 2 + 2",
+                3,
+                "do not go with a stepped potential (line 2)",
+            ),
+        ];
+        for (directives, line, what) in cases {
+            let text = format!("2\n{directives}\n{discs}");
+            let e = parse(&text, ColumnOrder::default()).unwrap_err();
+            assert_eq!(e.line, *line, "{text:?}: {e}");
+            assert!(e.message.contains(what), "{text:?}: {e}");
+        }
+        // A reactant that only a rule makes is fine: 2 + 2 happens once 0 + 1 has made 2s.
+        let text =
+            format!("2\n# edmd reaction 2 + 2 -> 0 + 1\n# edmd reaction 0 + 1 -> 2 + 2\n{discs}");
+        assert_eq!(
+            parse(&text, ColumnOrder::default())
+                .unwrap()
+                .reactions
+                .len(),
+            2
+        );
     }
 
     #[test]
@@ -694,6 +972,13 @@ mod tests {
             ("0\n# edmd barrier x 0.5 door 1\n", 2, "expected 'barrier"),
             ("0\n# edmd teleport\n", 2, "unknown edmd directive"),
             ("1\n.5 .5 0 0 .1 1 1 1 1 -3\n", 2, "species"),
+            // The potential's tables are per pair of species present: a species beyond those
+            // a potential can name would make them gigabytes (found by fuzzing checkpoints).
+            (
+                "2\n# edmd box 10 10\n# edmd potential 0 0 1.5 -1\n2 2 1 0 .5 1 0 0 0\n5 5 0 1 .5 1 0 0 0 65535\n",
+                5,
+                "species 65535: with a stepped potential (line 3) species go from 0 to 255",
+            ),
         ];
         for (text, line, what) in cases {
             let e = parse(text, ColumnOrder::default()).unwrap_err();

@@ -354,6 +354,45 @@ mod tests {
         assert!(a.validate().is_err());
     }
 
+    /// A file with reaction rules opens with its collisions reactive, and the picture shows each
+    /// disc in the colour of the species it has now: the discs' colours are read from the
+    /// simulation at every frame, so a product takes its species' colour when it is made, and a
+    /// restart gives the reactants theirs back.
+    #[test]
+    fn a_file_with_reactions_shows_the_products_in_their_colour() {
+        use crate::model::Model;
+        use edmd_draw::AnyScene;
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("react.txt");
+        // Head on at t = 1 with normal kinetic energy 1 (reduced mass 1/2, closing at 2), over
+        // the activation energy 0.5: both become species 2, which no disc has, so they take
+        // its colour from the palette.
+        std::fs::write(
+            &path,
+            "2\n# edmd box 10 10\n# edmd reaction 0 + 1 -> 2 + 2 activation 0.5\n3 5 1 0 1 1 200 0 0 0\n7 5 -1 0 1 1 0 0 200 1\n",
+        )
+        .unwrap();
+        let a = parse(&[path.to_str().unwrap()]).unwrap();
+        let AnySimulation::Two(sim) = a.simulation_any().unwrap() else {
+            panic!("a 2D file");
+        };
+        assert_eq!(sim.reactions().map(|r| r.rules.len()), Some(1));
+        let colours = |m: &Model| match m.scene() {
+            AnyScene::Flat(s) => s.colours,
+            AnyScene::Solid(..) => unreachable!("a 2D file"),
+        };
+        let mut m = Model::new(sim, Colouring::File);
+        assert_eq!(colours(&m), vec![[200, 0, 0], [0, 0, 200]]);
+        m.run_until(0.5);
+        assert_eq!(colours(&m), vec![[200, 0, 0], [0, 0, 200]]);
+        m.run_until(2.0);
+        let made = edmd_core::state::species_colour(2);
+        assert_eq!(colours(&m), vec![made, made]);
+        assert_eq!(m.sim.reaction_counts(), &[1]);
+        m.restart();
+        assert_eq!(colours(&m), vec![[200, 0, 0], [0, 0, 200]]);
+    }
+
     #[test]
     fn a_missing_file_is_one_user_error() {
         let a = parse(&["/nonexistent/discs.txt"]).unwrap();

@@ -17,6 +17,9 @@
 //! pressure against time and the speed histogram against the Rayleigh law, with counters.
 //! A 3D file (`# edmd dim 3`) is shown as shaded spheres in an orthographic view that turns
 //! when the picture is dragged (and with the up, down and left arrow keys).
+//! A file with reaction rules (`# edmd reaction`) runs reactive, as `edmd run` runs it: the
+//! colours are read from the simulation at every frame, so a disc that reacts is drawn in its
+//! new species' colour from then on.
 //!
 //! Without a display the program prints one line and exits with status 2. For tests and
 //! measurements: `--screenshot FILE.png --quit-after SECONDS` saves a real screenshot of the

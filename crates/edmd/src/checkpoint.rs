@@ -41,15 +41,33 @@ pub struct Measuring<const D: usize> {
     pub obs: Measurements<D>,
 }
 
-/// [`Measuring`] as checkpoints kept it before energy and g(r) were measured.
+/// [`Measuring`] as checkpoints kept it with earlier measurements `M` (which become today's).
 #[derive(Deserialize)]
-#[serde(bound = "")]
-struct MeasuringBefore<const D: usize> {
+struct MeasuringBefore<M> {
     which: Vec<Measure>,
     every: f64,
     start: f64,
     samples: u64,
-    obs: crate::measure::MeasurementsBefore<D>,
+    obs: M,
+}
+
+/// The extra bytes of a checkpoint whose measurements are `M`, an earlier [`Measurements`],
+/// read as today's.
+fn read_extra_before<const D: usize, M>(extra: &[u8]) -> Option<CheckpointExtra<Measuring<D>>>
+where
+    M: for<'de> Deserialize<'de> + Into<Measurements<D>>,
+{
+    let e = postcard::from_bytes::<CheckpointExtra<MeasuringBefore<M>>>(extra).ok()?;
+    Some(CheckpointExtra {
+        format: e.format,
+        measuring: e.measuring.map(|m| Measuring {
+            which: m.which,
+            every: m.every,
+            start: m.start,
+            samples: m.samples,
+            obs: m.obs.into(),
+        }),
+    })
 }
 
 impl<const D: usize> Measuring<D> {
@@ -116,22 +134,14 @@ pub fn format_name(format: Format) -> &'static str {
 /// The format and the measurements kept in a checkpoint's extra bytes; `None` when they cannot
 /// be read.
 pub fn read_extra<const D: usize>(extra: &[u8]) -> Option<(Format, Option<Measuring<D>>)> {
+    // Each field is read in turn and postcard has no field names, so a checkpoint written
+    // before a measurement was added ends early for today's layout and is read with its own.
     let extra = postcard::from_bytes::<CheckpointExtra<Measuring<D>>>(extra)
         .ok()
-        .or_else(|| {
-            // Written before energy and g(r) were measured.
-            let e = postcard::from_bytes::<CheckpointExtra<MeasuringBefore<D>>>(extra).ok()?;
-            Some(CheckpointExtra {
-                format: e.format,
-                measuring: e.measuring.map(|m| Measuring {
-                    which: m.which,
-                    every: m.every,
-                    start: m.start,
-                    samples: m.samples,
-                    obs: m.obs.into(),
-                }),
-            })
-        })?;
+        // Written before kinetics were measured.
+        .or_else(|| read_extra_before::<D, crate::measure::MeasurementsBeforeKinetics<D>>(extra))
+        // Written before energy and g(r) were measured.
+        .or_else(|| read_extra_before::<D, crate::measure::MeasurementsBefore<D>>(extra))?;
     let format = match extra.format.as_str() {
         "course" => Format::Course,
         "princeton-mass-radius" => Format::Princeton(ColumnOrder::MassRadius),
@@ -253,5 +263,33 @@ pub fn same_file(a: &Path, b: &Path) -> bool {
     match (std::fs::metadata(a), std::fs::metadata(b)) {
         (Ok(x), Ok(y)) => x.dev() == y.dev() && x.ino() == y.ino(),
         _ => false,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use edmd_core::setup::lattice_fluid;
+    use edmd_core::{Boundary, Options};
+
+    /// A checkpoint written before kinetics were measured (its extra bytes end where today's
+    /// `kinetics` would begin) is read back with the measurements it had.
+    #[test]
+    fn measurements_from_before_kinetics_read_back() {
+        let (discs, bx) = lattice_fluid(64, 0.3, Boundary::Periodic, 1).unwrap();
+        let mut sim = Simulation::new(&discs, bx, Options::default()).unwrap();
+        let which = [Measure::Temperature, Measure::Rdf];
+        let mut m = Measuring::new(&sim, &which, 0.5);
+        assert!(m.run_to(&mut sim, 2.0).unwrap());
+        let now = checkpoint_bytes(&sim, Format::Course, Some(&m)).unwrap();
+        let (_, extra) = Simulation::<2>::from_checkpoint(&now).unwrap();
+        // `kinetics: None` is the last byte, 0.
+        assert_eq!(extra.last(), Some(&0));
+        let before = sim.to_checkpoint(&extra[..extra.len() - 1]);
+        let (_, format, back) = from_checkpoint_bytes::<2>(&before).unwrap();
+        let back = back.unwrap();
+        assert_eq!(format, Format::Course);
+        assert_eq!((back.which, back.samples), (which.to_vec(), 4));
+        assert_eq!(back.obs.results(&sim).0, m.obs.results(&sim).0);
     }
 }

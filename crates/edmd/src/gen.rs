@@ -2,7 +2,8 @@
 //!
 //! Every kind starts from its documented defaults (`edmd_core::setup::generators`); each
 //! option overrides one parameter, and an option that a kind does not have is an error rather
-//! than silently ignored.
+//! than silently ignored. [`ChemistryArgs`] adds species in given proportions and reaction
+//! rules ([`make_with`]).
 
 use std::path::Path;
 
@@ -10,13 +11,42 @@ use anyhow::Result;
 use clap::Args;
 use edmd_core::setup::generators::{generate, GenKind};
 use edmd_core::setup::Sizes;
-use edmd_core::Boundary;
+use edmd_core::{Boundary, Reaction, Reactions};
 use edmd_io::princeton::ColumnOrder;
-use edmd_io::Format;
+use edmd_io::{Format, Interactions};
 
 use crate::options::BoundaryArg;
 use crate::output::AtomicFile;
 use crate::user_error;
+
+/// Every option of `edmd gen`: the system's ([`GenArgs`]) and its species' and reactions'
+/// ([`ChemistryArgs`]).
+#[derive(Debug, Args)]
+pub struct GenCommand {
+    /// The system.
+    #[command(flatten)]
+    pub args: GenArgs,
+    /// Species and reaction rules.
+    #[command(flatten)]
+    pub chemistry: ChemistryArgs,
+}
+
+/// Options of `edmd gen` for reactive systems: species in given proportions, and reaction
+/// rules written into the file.
+#[derive(Clone, Debug, Default, Args)]
+pub struct ChemistryArgs {
+    /// Species in these proportions (fluid): the number fractions of species 0, 1, 2, ...,
+    /// summing to 1 (`--species 0.5,0.5`). Species k gets N f_k discs, rounded down and the
+    /// largest remainders up so that the counts add up to N, placed at random (seeded by
+    /// --seed), and a colour of its own.
+    #[arg(long, value_name = "F0,F1,...")]
+    pub species: Option<String>,
+    /// A reaction rule, written into the file as a '# edmd reaction' line (repeat for more):
+    /// 'A + B -> C + D [activation E] [probability P] [heat Q]', species whole numbers, the
+    /// spaces optional ('0+1->2+2 activation 1').
+    #[arg(long, value_name = "RULE")]
+    pub reaction: Vec<String>,
+}
 
 /// Options of `edmd gen`.
 #[derive(Debug, Args)]
@@ -158,18 +188,177 @@ pub enum Generated {
 }
 
 /// Runs `edmd gen`.
-pub fn run(args: &GenArgs) -> Result<()> {
+pub fn run(cmd: &GenCommand) -> Result<()> {
+    let args = &cmd.args;
     crate::output::check_file_destinations(&[("--output", Path::new(&args.output))])?;
-    let generated = make(args)?;
+    let (generated, rules) = make_with(args, &cmd.chemistry)?;
     let potential = args.potential_of(&generated)?;
+    let interactions = Interactions {
+        potential: &potential,
+        reactions: &rules,
+    };
     match generated {
-        Generated::Two(system, format) => write_system(&system, &potential, format, args),
+        Generated::Two(system, format) => write_system(&system, interactions, format, args),
         Generated::Three(system) => write_system(
             &system,
-            &potential,
+            interactions,
             Format::Princeton(ColumnOrder::RadiusMass),
             args,
         ),
+    }
+}
+
+/// [`make`], with the species and reaction rules of `chemistry`: the system with its discs'
+/// species assigned (`--species`), and the rules (`--reaction`), each checked (their text, one
+/// rule per pair of species, every reactant a species some disc is or some rule makes).
+pub fn make_with(args: &GenArgs, chemistry: &ChemistryArgs) -> Result<(Generated, Vec<Reaction>)> {
+    let name = &args.kind;
+    let fractions = match &chemistry.species {
+        None => None,
+        Some(_) if name != "fluid" => {
+            return user_error(format!("gen {name}: --species applies to fluid"))
+        }
+        Some(_) if args.course => {
+            return user_error(format!(
+                "gen {name}: the course format has no species (--course with --species)"
+            ))
+        }
+        Some(_) if args.well.is_some() || args.shoulder.is_some() => {
+            return user_error(format!(
+                "gen {name}: --species does not go with --well or --shoulder (their steps are between discs of species 0)"
+            ))
+        }
+        Some(text) => Some(species_fractions(name, text)?),
+    };
+    let rules = reaction_rules(args, &chemistry.reaction)?;
+    let mut generated = make(args)?;
+    if let Some(fractions) = fractions {
+        match &mut generated {
+            Generated::Two(s, _) => assign_species(&mut s.discs, &fractions, args.seed),
+            Generated::Three(s) => assign_species(&mut s.discs, &fractions, args.seed),
+        }
+    }
+    let species: Vec<u16> = match &generated {
+        Generated::Two(s, _) => s.discs.iter().map(|d| d.species).collect(),
+        Generated::Three(s) => s.discs.iter().map(|d| d.species).collect(),
+    };
+    let made: Vec<u16> = rules
+        .iter()
+        .flat_map(|r| [r.products.0, r.products.1])
+        .collect();
+    for (text, r) in chemistry.reaction.iter().zip(&rules) {
+        for s in [r.reactants.0, r.reactants.1] {
+            if !made.contains(&s) && !species.contains(&s) {
+                return user_error(format!(
+                    "gen {name}: --reaction '{text}': no disc is of species {s} and no rule makes it"
+                ));
+            }
+        }
+    }
+    Ok((generated, rules))
+}
+
+/// The rules of `--reaction`, each read and all checked together (before any system is made).
+fn reaction_rules(args: &GenArgs, given: &[String]) -> Result<Vec<Reaction>> {
+    let name = &args.kind;
+    if given.is_empty() {
+        return Ok(Vec::new());
+    }
+    if args.course {
+        return user_error(format!(
+            "gen {name}: the course format has no place for reaction rules (--course with --reaction)"
+        ));
+    }
+    if args.well.is_some() || args.shoulder.is_some() {
+        return user_error(format!(
+            "gen {name}: --reaction does not go with --well or --shoulder (a reaction would change a pair's steps)"
+        ));
+    }
+    let mut rules = Vec::new();
+    for text in given {
+        match edmd_io::reaction::parse_text(text) {
+            Ok(r) => rules.push(r),
+            Err(e) => return user_error(format!("gen {name}: --reaction '{text}': {e}")),
+        }
+    }
+    Reactions::new(rules.clone())
+        .validate()
+        .or_else(|e| user_error(format!("gen {name}: --reaction: {e}")))?;
+    Ok(rules)
+}
+
+/// The fractions of `--species F0,F1,...`: each a finite number `>= 0`, at most
+/// `MAX_REACTION_SPECIES` of them (the species rules can name), summing to 1.
+fn species_fractions(name: &str, text: &str) -> Result<Vec<f64>> {
+    let mut fractions = Vec::new();
+    for w in text.split(',') {
+        match w.trim().parse::<f64>() {
+            Ok(f) if f.is_finite() && f >= 0.0 => fractions.push(f),
+            _ => {
+                return user_error(format!(
+                    "gen {name}: --species {text}: each fraction must be a number >= 0, found '{w}'"
+                ))
+            }
+        }
+    }
+    let most = edmd_core::MAX_REACTION_SPECIES as usize;
+    if fractions.len() > most {
+        return user_error(format!(
+            "gen {name}: --species: {} fractions, more than the {most} species reaction rules can name",
+            fractions.len()
+        ));
+    }
+    let sum: f64 = fractions.iter().sum();
+    if (sum - 1.0).abs() > 1e-6 {
+        return user_error(format!(
+            "gen {name}: --species {text}: the fractions must sum to 1, and they sum to {sum}"
+        ));
+    }
+    Ok(fractions)
+}
+
+/// Gives the discs species in the proportions `fractions` (of species 0, 1, ...): species `k`
+/// gets `N f_k` discs rounded down, and the discs left over go one each to the species with
+/// the largest remainders (the lower species first among equal ones), so the counts are as
+/// near the fractions as whole numbers allow and add up to `N`; which disc is which is a
+/// shuffle seeded by `seed`. Each disc takes its species' colour
+/// (`edmd_core::state::species_colour`).
+fn assign_species<const D: usize>(discs: &mut [edmd_core::Disc<D>], fractions: &[f64], seed: u64) {
+    let n = discs.len();
+    let sum: f64 = fractions.iter().sum();
+    let exact: Vec<f64> = fractions.iter().map(|f| f / sum * n as f64).collect();
+    let mut counts: Vec<usize> = exact.iter().map(|x| x.floor() as usize).collect();
+    let mut order: Vec<usize> = (0..fractions.len()).collect();
+    order.sort_by(|&a, &b| {
+        let (ra, rb) = (exact[a] - exact[a].floor(), exact[b] - exact[b].floor());
+        rb.total_cmp(&ra).then(a.cmp(&b))
+    });
+    let short = n.saturating_sub(counts.iter().sum());
+    for &k in order.iter().cycle().take(short) {
+        counts[k] += 1;
+    }
+    let mut labels: Vec<u16> = counts
+        .iter()
+        .enumerate()
+        .flat_map(|(k, &c)| std::iter::repeat_n(k as u16, c))
+        .collect();
+    labels.truncate(n);
+    // Fisher-Yates with SplitMix64, its stream apart from the generators' (which seed PCG).
+    let mut state = seed ^ 0x5BEC_1E50_0000_0001;
+    let mut next = || {
+        state = state.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = state;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        z ^ (z >> 31)
+    };
+    for i in (1..labels.len()).rev() {
+        let j = ((u128::from(next()) * (i as u128 + 1)) >> 64) as usize;
+        labels.swap(i, j);
+    }
+    for (d, &s) in discs.iter_mut().zip(&labels) {
+        d.species = s;
+        d.colour = edmd_core::state::species_colour(s);
     }
 }
 
@@ -254,11 +443,11 @@ fn at_kt<const D: usize>(
 /// Writes a generated system to `args.output` (atomically) or standard output.
 fn write_system<const D: usize>(
     system: &edmd_core::System<D>,
-    potential: &edmd_core::Potential,
+    interactions: Interactions,
     format: Format,
     args: &GenArgs,
 ) -> Result<()> {
-    if format == Format::Course && !potential.is_hard() {
+    if format == Format::Course && !interactions.potential.is_hard() {
         return user_error(format!(
             "gen {}: the course format has no place for a potential (--course with --well or --shoulder)",
             args.kind
@@ -266,30 +455,35 @@ fn write_system<const D: usize>(
     }
     if args.output == "-" {
         let mut out = std::io::stdout().lock();
-        edmd_io::write_with(
+        edmd_io::write_full(
             &mut out,
             &system.discs,
             &system.sim_box,
             &system.barriers,
-            potential,
+            interactions,
             format,
             0.0,
         )?;
         std::io::Write::flush(&mut out)?;
     } else {
         let mut f = AtomicFile::create(Path::new(&args.output))?;
-        edmd_io::write_with(
+        edmd_io::write_full(
             f.writer(),
             &system.discs,
             &system.sim_box,
             &system.barriers,
-            potential,
+            interactions,
             format,
             0.0,
         )?;
         f.commit()?;
+        let rules = match interactions.reactions.len() {
+            0 => String::new(),
+            1 => " with 1 reaction rule".to_string(),
+            k => format!(" with {k} reaction rules"),
+        };
         eprintln!(
-            "edmd gen: {} {} ({}) written to {}",
+            "edmd gen: {} {} ({}){rules} written to {}",
             system.discs.len(),
             if D == 3 { "spheres" } else { "discs" },
             args.kind,
@@ -470,4 +664,57 @@ fn apply(kind: &mut GenKind, a: &GenArgs) -> Result<()> {
         return user_error(format!("gen {name}: --{flag} does not apply to this kind"));
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use edmd_core::{Disc, Vector};
+
+    fn discs(n: usize) -> Vec<Disc> {
+        (0..n)
+            .map(|k| Disc::new(Vector::new([k as f64, 0.0]), Vector::ZERO, 0.1))
+            .collect()
+    }
+
+    fn counts(d: &[Disc], k: usize) -> Vec<usize> {
+        (0..k)
+            .map(|s| d.iter().filter(|x| x.species as usize == s).count())
+            .collect()
+    }
+
+    /// The counts are the fractions of N rounded down, the largest remainders (the lower
+    /// species among equal ones) rounded up: they add up to N and none is off by one or more.
+    #[test]
+    fn species_come_in_the_proportions_asked_for() {
+        let mut d = discs(10);
+        assign_species(&mut d, &[0.25, 0.25, 0.5], 1);
+        assert_eq!(counts(&d, 3), vec![3, 2, 5]);
+        let mut d = discs(1000);
+        assign_species(&mut d, &[0.5, 0.5], 1);
+        assert_eq!(counts(&d, 2), vec![500, 500]);
+        let mut d = discs(7);
+        assign_species(&mut d, &[0.1, 0.2, 0.0, 0.7], 1);
+        assert_eq!(counts(&d, 4), vec![1, 1, 0, 5]);
+        assert!(d
+            .iter()
+            .all(|x| x.colour == edmd_core::state::species_colour(x.species)));
+    }
+
+    /// Which disc is which is a shuffle by the seed: the same seed gives the same discs, another
+    /// seed others, and the species are not laid out in runs.
+    #[test]
+    fn species_are_placed_at_random_by_the_seed() {
+        let labels = |seed| {
+            let mut d = discs(200);
+            assign_species(&mut d, &[0.5, 0.5], seed);
+            d.iter().map(|x| x.species).collect::<Vec<_>>()
+        };
+        assert_eq!(labels(3), labels(3));
+        assert_ne!(labels(3), labels(4));
+        let a = labels(3);
+        let changes = a.windows(2).filter(|w| w[0] != w[1]).count();
+        // About 100 for independent labels (sd about 7).
+        assert!((70..=130).contains(&changes), "{changes}");
+    }
 }

@@ -198,18 +198,72 @@ pub fn load_any(
         .or_else(|e| user_error(format!("{path}:{}: {}", e.line, e.message)))
 }
 
-/// Builds the simulation, translating engine refusals into messages naming lines.
+/// The seed of the reactions' draws when none is given (`edmd run` without `--seed`), the
+/// thermostat's default too.
+pub const DEFAULT_SEED: u64 = 1;
+
+/// Builds the simulation, translating engine refusals into messages naming lines. The file's
+/// reaction rules, if any, make its collisions reactive, their draws seeded with
+/// [`DEFAULT_SEED`] ([`build_seeded`] takes another seed).
 pub fn build<const D: usize>(
     path: &str,
     sys: &LoadedSystem<D>,
     options: Options,
 ) -> Result<Simulation<D>> {
-    build_with_hint(path, sys, options, true)
+    build_seeded(path, sys, options, DEFAULT_SEED)
+}
+
+/// [`build`] with `seed` for the reactions' draws (`edmd run --seed`).
+pub fn build_seeded<const D: usize>(
+    path: &str,
+    sys: &LoadedSystem<D>,
+    options: Options,
+    seed: u64,
+) -> Result<Simulation<D>> {
+    let mut sim = build_hard(path, sys, options, true)?;
+    set_reactions(path, sys, &mut sim, seed)?;
+    Ok(sim)
 }
 
 /// [`build`], with or without the hint that `--allow-overlaps` runs a refused file (the
 /// `particles` program has no such option, so it points to `edmd run` instead).
 pub fn build_with_hint<const D: usize>(
+    path: &str,
+    sys: &LoadedSystem<D>,
+    options: Options,
+    allow_overlaps_option: bool,
+) -> Result<Simulation<D>> {
+    let mut sim = build_hard(path, sys, options, allow_overlaps_option)?;
+    set_reactions(path, sys, &mut sim, DEFAULT_SEED)?;
+    Ok(sim)
+}
+
+/// Makes the collisions of `sim`, built from `sys`, reactive under the file's rules (nothing
+/// without rules): their draws seeded with `seed`, and each species a rule makes coloured as
+/// the first disc of that species in the file, or else by
+/// `edmd_core::state::species_colour`. Rules with the swap rule or multi-disc collisions are
+/// refused in one line naming the file.
+pub fn set_reactions<const D: usize>(
+    path: &str,
+    sys: &LoadedSystem<D>,
+    sim: &mut Simulation<D>,
+    seed: u64,
+) -> Result<()> {
+    if sys.reactions.is_empty() {
+        return Ok(());
+    }
+    let mut reactions = edmd_core::Reactions {
+        rules: sys.reactions.clone(),
+        seed,
+        colours: Vec::new(),
+    };
+    reactions.fill_colours(sys.discs.iter().map(|d| (d.species, d.colour)));
+    sim.set_reactions(Some(reactions))
+        .or_else(|e| user_error(format!("{path}: {e} (the file's '# edmd reaction' lines)")))
+}
+
+/// The simulation of the discs, box, barriers and potential of `sys`, without its reactions.
+fn build_hard<const D: usize>(
     path: &str,
     sys: &LoadedSystem<D>,
     options: Options,

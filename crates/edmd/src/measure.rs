@@ -6,8 +6,8 @@ use std::path::{Path, PathBuf};
 use anyhow::Result;
 use clap::ValueEnum;
 use edmd_core::measure::{
-    kinetic_temperature, Collisions, Diffusion, Energy, Pressure, Rdf, SpeciesHalves, Speeds,
-    Temperature,
+    kinetic_temperature, Collisions, Diffusion, Energy, Kinetics, Pressure, Rdf, SpeciesHalves,
+    Speeds, Temperature,
 };
 use edmd_core::{EventRecord, Observer, Simulation};
 use serde::{Deserialize, Serialize};
@@ -37,6 +37,10 @@ pub enum Measure {
     /// The radial distribution function g(r), out to 5 of the largest diameters (or half the
     /// box).
     Rdf,
+    /// Reaction kinetics: the number of discs of each species over time, and each reaction
+    /// rule's reactions and rate constant k (reactions per unit volume and time = k n_A n_B,
+    /// k n_A^2 / 2 for like reactants) with its block error.
+    Kinetics,
 }
 
 impl Measure {
@@ -55,6 +59,7 @@ impl Measure {
             Measure::Species => &["species.csv"],
             Measure::Energy => &["energy.csv"],
             Measure::Rdf => &["rdf.csv"],
+            Measure::Kinetics => &["kinetics.csv"],
         }
     }
 }
@@ -71,6 +76,38 @@ pub struct Measurements<const D: usize = 2> {
     species: Option<SpeciesHalves>,
     energy: Option<Energy>,
     rdf: Option<Rdf>,
+    kinetics: Option<Kinetics>,
+}
+
+/// [`Measurements`] as checkpoints kept them before `kinetics` was measured: read back, they go
+/// on as measurements without it.
+#[derive(Deserialize)]
+#[serde(bound = "")]
+pub(crate) struct MeasurementsBeforeKinetics<const D: usize> {
+    temperature: Option<Temperature>,
+    pressure: Option<Pressure>,
+    collisions: Option<Collisions>,
+    speeds: Option<Speeds>,
+    msd: Option<Diffusion<D>>,
+    species: Option<SpeciesHalves>,
+    energy: Option<Energy>,
+    rdf: Option<Rdf>,
+}
+
+impl<const D: usize> From<MeasurementsBeforeKinetics<D>> for Measurements<D> {
+    fn from(m: MeasurementsBeforeKinetics<D>) -> Self {
+        Measurements {
+            temperature: m.temperature,
+            pressure: m.pressure,
+            collisions: m.collisions,
+            speeds: m.speeds,
+            msd: m.msd,
+            species: m.species,
+            energy: m.energy,
+            rdf: m.rdf,
+            kinetics: None,
+        }
+    }
 }
 
 /// [`Measurements`] as checkpoints kept them before `energy` and `rdf` were measured: read
@@ -97,6 +134,7 @@ impl<const D: usize> From<MeasurementsBefore<D>> for Measurements<D> {
             species: m.species,
             energy: None,
             rdf: None,
+            kinetics: None,
         }
     }
 }
@@ -137,6 +175,7 @@ impl<const D: usize> Measurements<D> {
                     .fold(0.0, f64::max);
                 Rdf::new(sim, range(5.0 * largest), 250)
             }),
+            kinetics: has(Measure::Kinetics).then(|| Kinetics::new(sim)),
         }
     }
 
@@ -146,6 +185,7 @@ impl<const D: usize> Measurements<D> {
         self.collisions.as_ref().is_none_or(|m| m.fits(sim))
             && self.msd.as_ref().is_none_or(|m| m.fits(sim))
             && self.species.as_ref().is_none_or(|m| m.fits(sim))
+            && self.kinetics.as_ref().is_none_or(|m| kinetics_fits(m, sim))
     }
 
     /// Takes a sample of every measurement at the simulation's current time.
@@ -172,6 +212,9 @@ impl<const D: usize> Measurements<D> {
             m.sample(sim);
         }
         if let Some(m) = &mut self.rdf {
+            m.sample(sim);
+        }
+        if let Some(m) = &mut self.kinetics {
             m.sample(sim);
         }
     }
@@ -383,8 +426,59 @@ impl<const D: usize> Measurements<D> {
                        "peak_r": peak.0, "peak_g": if curve.is_empty() { Value::Null } else { json!(peak.1) }}),
             );
         }
+        if let Some(m) = &self.kinetics {
+            let width = m.counts().len();
+            let mut header = vec!["time".to_string()];
+            header.extend((0..width).map(|s| format!("species{s}")));
+            let rows = m
+                .series()
+                .iter()
+                .map(|(t, counts)| {
+                    let mut row = vec![*t];
+                    row.extend(counts.iter().map(|&c| c as f64));
+                    row
+                })
+                .collect();
+            let h: Vec<&str> = header.iter().map(String::as_str).collect();
+            csv("kinetics.csv", &h, rows);
+            let rules: Vec<Value> = m
+                .rates()
+                .iter()
+                .map(|r| {
+                    let [a, b, c, d] = r.rule;
+                    let k = &r.rate_constant;
+                    json!({"rule": format!("{a} + {b} -> {c} + {d}"), "reactants": [a, b],
+                           "products": [c, d], "reactions": r.reactions, "exposure": r.exposure,
+                           "rate_constant": {"value": k.value, "error": k.error, "blocks": k.blocks}})
+                })
+                .collect();
+            out.insert(
+                "kinetics".into(),
+                json!({"samples": m.series().len() - 1, "duration": m.duration(),
+                       "counts": m.counts(), "rules": rules}),
+            );
+        }
         (Value::Object(out), tables)
     }
+}
+
+/// Whether kinetics read back from a checkpoint can go on observing `sim`: the same rules, and
+/// the species counts it has reached those of the simulation's discs (both kept exactly).
+fn kinetics_fits<const D: usize>(k: &Kinetics, sim: &Simulation<D>) -> bool {
+    let rules: Vec<[u16; 4]> = sim.reactions().map_or_else(Vec::new, |r| {
+        r.rules
+            .iter()
+            .map(|r| [r.reactants.0, r.reactants.1, r.products.0, r.products.1])
+            .collect()
+    });
+    let mut counts = vec![0usize; k.counts().len()];
+    for i in 0..sim.len() {
+        match counts.get_mut(sim.species(i) as usize) {
+            Some(c) => *c += 1,
+            None => return false,
+        }
+    }
+    counts == k.counts() && k.rates().iter().map(|r| r.rule).eq(rules)
 }
 
 /// One table of results: the CSV file it is written to, its column names and rows.
@@ -404,6 +498,9 @@ impl<const D: usize> Observer<D> for Measurements<D> {
             m.on_event(e, sim);
         }
         if let Some(m) = &mut self.collisions {
+            m.on_event(e, sim);
+        }
+        if let Some(m) = &mut self.kinetics {
             m.on_event(e, sim);
         }
     }

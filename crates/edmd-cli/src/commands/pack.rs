@@ -30,6 +30,9 @@ pub fn run(args: &PackArgs) -> Result<()> {
     crate::commands::experiment::common::install_ctrlc();
     let setup = SetupWatch::start();
     let what = args.file.as_ref().map(|f| format!("the file {f}"));
+    // A file's reaction rules go with its particles, whose species the compression keeps, into
+    // the packing written (a packing's checkpoint keeps particles only).
+    let mut reactions = Vec::new();
     let given = match &args.file {
         Some(path) => match read_pack_checkpoint(Path::new(path))? {
             Some(bytes) => Some((
@@ -43,18 +46,24 @@ pub fn run(args: &PackArgs) -> Result<()> {
                 refuse_random_options(args, what.as_deref().unwrap_or_default())?;
                 let (start, barriers, stepped, lines) =
                     match read_any(path, None, ColumnOrder::RadiusMass, None)? {
-                        edmd_io::AnyLoaded::Two(sys) => (
-                            Start::Two(sys.discs, sys.sim_box),
-                            !sys.barriers.is_empty(),
-                            !sys.potential.is_hard(),
-                            sys.lines,
-                        ),
-                        edmd_io::AnyLoaded::Three(sys) => (
-                            Start::Three(sys.discs, sys.sim_box),
-                            !sys.barriers.is_empty(),
-                            !sys.potential.is_hard(),
-                            sys.lines,
-                        ),
+                        edmd_io::AnyLoaded::Two(sys) => {
+                            reactions = sys.reactions;
+                            (
+                                Start::Two(sys.discs, sys.sim_box),
+                                !sys.barriers.is_empty(),
+                                !sys.potential.is_hard(),
+                                sys.lines,
+                            )
+                        }
+                        edmd_io::AnyLoaded::Three(sys) => {
+                            reactions = sys.reactions;
+                            (
+                                Start::Three(sys.discs, sys.sim_box),
+                                !sys.barriers.is_empty(),
+                                !sys.potential.is_hard(),
+                                sys.lines,
+                            )
+                        }
                     };
                 Some((path.as_str(), start, barriers, stepped, lines))
             }
@@ -109,8 +118,8 @@ pub fn run(args: &PackArgs) -> Result<()> {
         };
     }
     match packed {
-        Packed::Two(packing, summary) => report(args, &packing, summary),
-        Packed::Three(packing, summary) => report(args, &packing, summary),
+        Packed::Two(packing, summary) => report(args, &packing, &reactions, summary),
+        Packed::Three(packing, summary) => report(args, &packing, &reactions, summary),
     }
 }
 
@@ -186,13 +195,15 @@ fn check_outputs(args: &PackArgs) -> Result<()> {
     edmd::output::check_file_destinations(&outputs)
 }
 
-/// Writes the packing and prints the summary.
+/// Writes the packing (with the reaction rules of the file it started from) and prints the
+/// summary.
 fn report<const D: usize>(
     args: &PackArgs,
     packing: &Packing<D>,
+    reactions: &[edmd_core::Reaction],
     mut summary: Summary,
 ) -> Result<()> {
-    write(&args.output, packing)?;
+    write(&args.output, packing, reactions)?;
     summary.output = args.output.clone();
     if args.json {
         edmd::front::print_line(&serde_json::to_string(&summary)?);
@@ -231,10 +242,18 @@ fn progress_bar() -> Option<indicatif::ProgressBar> {
     Some(pb)
 }
 
-/// Writes the packing to `output`, or to standard output for `-`.
-fn write<const D: usize>(output: &str, packing: &Packing<D>) -> Result<()> {
+/// Writes the packing, with `reactions`, to `output`, or to standard output for `-`.
+fn write<const D: usize>(
+    output: &str,
+    packing: &Packing<D>,
+    reactions: &[edmd_core::Reaction],
+) -> Result<()> {
     let format = Format::Princeton(ColumnOrder::RadiusMass);
     let (discs, sim_box) = (&packing.discs, &packing.sim_box);
+    let interactions = edmd_io::Interactions {
+        reactions,
+        ..edmd_io::Interactions::HARD
+    };
     let out_file = match output {
         "-" => None,
         p => Some(AtomicFile::create(Path::new(p))?),
@@ -242,11 +261,11 @@ fn write<const D: usize>(output: &str, packing: &Packing<D>) -> Result<()> {
     match out_file {
         None => {
             let mut out = std::io::stdout().lock();
-            edmd_io::write(&mut out, discs, sim_box, &[], format, 0.0)?;
+            edmd_io::write_full(&mut out, discs, sim_box, &[], interactions, format, 0.0)?;
             std::io::Write::flush(&mut out)?;
         }
         Some(mut f) => {
-            edmd_io::write(f.writer(), discs, sim_box, &[], format, 0.0)?;
+            edmd_io::write_full(f.writer(), discs, sim_box, &[], interactions, format, 0.0)?;
             f.commit()?;
         }
     }

@@ -18,7 +18,7 @@ use edmd::checkpoint::{
     checkpoint_bytes, measure_names as names, read_checkpoint, read_extra, same_file,
     write_checkpoint, Measuring, MAX_STOPS, MAX_TRAJECTORY_BYTES,
 };
-use edmd::input::{build, read_any};
+use edmd::input::{build_seeded, read_any, DEFAULT_SEED};
 use edmd::measure::Measure;
 use edmd::output::{check_distinct, check_file_destinations, check_folder_destination, AtomicFile};
 use edmd::user_error;
@@ -51,7 +51,7 @@ pub struct Summary {
     /// Disc-disc collisions per second of wall-clock time.
     pub collisions_per_second: f64,
     /// `(E_end - E_start) / E_start` of the energy (kinetic, plus potential under a stepped
-    /// potential).
+    /// potential, less the heat released by reactions).
     pub relative_energy_change: f64,
     /// Under a stepped potential: events at its steps (crossings and bounces).
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -63,10 +63,31 @@ pub struct Summary {
     /// Under a stepped potential: the potential energy at the end.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub potential_energy: Option<f64>,
+    /// With reaction rules: each rule and its reactions so far (from the run's start, a
+    /// checkpoint's included).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub reactions: Option<Vec<RuleCount>>,
+    /// With reaction rules: the heat they released so far (into the discs' kinetic energy;
+    /// negative: taken from it).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub reaction_heat: Option<f64>,
     /// Discs moved into the box by `--allow-overlaps`.
     pub discs_moved_into_box: usize,
     /// Trajectory frames written.
     pub frames: u64,
+}
+
+/// A reaction rule and its reactions.
+#[derive(Debug, Serialize)]
+pub struct RuleCount {
+    /// The rule as the file's `# edmd reaction` line writes it.
+    pub rule: String,
+    /// Its reactants' species.
+    pub reactants: [u16; 2],
+    /// Its products' species.
+    pub products: [u16; 2],
+    /// Reactions so far.
+    pub reactions: u64,
 }
 
 /// Runs `edmd run`.
@@ -114,7 +135,13 @@ fn run_in<const D: usize>(args: &RunArgs, sys: edmd_io::LoadedSystem<D>) -> Resu
         OverlapPolicy::Refuse
     };
     let multi = args.multi.then(MultiContact::default);
-    let mut sim = build(
+    if args.seed.is_some() && args.thermostat.is_none() && sys.reactions.is_empty() {
+        return user_error(format!(
+            "{}: --seed seeds the thermostat's redraws and the draws of reaction rules: give --thermostat, or a file with '# edmd reaction' lines",
+            args.file
+        ));
+    }
+    let mut sim = build_seeded(
         &args.file,
         &sys,
         Options {
@@ -122,6 +149,7 @@ fn run_in<const D: usize>(args: &RunArgs, sys: edmd_io::LoadedSystem<D>) -> Resu
             overlaps,
             multi,
         },
+        args.seed.unwrap_or(DEFAULT_SEED),
     )?;
     if sys.time != 0.0 {
         if args.until < sys.time {
@@ -273,6 +301,24 @@ fn check_carried<const D: usize>(
             None => return differs("--multi".into(), "binary collisions, no --multi".into()),
         }
     }
+    if let Some(seed) = args.seed {
+        let carried: Vec<u64> = [
+            sim.thermostat().map(|a| a.seed),
+            sim.reactions().map(|r| r.seed),
+        ]
+        .into_iter()
+        .flatten()
+        .collect();
+        if carried.is_empty() {
+            return user_error(format!(
+                "{}: --seed seeds the thermostat's redraws and the draws of reaction rules, and the checkpoint's run has neither; drop --seed",
+                args.file
+            ));
+        }
+        if let Some(c) = carried.into_iter().find(|&c| c != seed) {
+            return differs(format!("--seed {seed}"), format!("--seed {c}"));
+        }
+    }
     if let Some(asked) = args.andersen() {
         let name = |a: edmd_core::Andersen| {
             format!(
@@ -324,7 +370,11 @@ fn execute<const D: usize>(
         None => None,
     };
 
-    let e0 = sim.kinetic_energy() + sim.potential_energy();
+    // Reactions turn heat into kinetic energy: what they released is taken off, so that the
+    // change is the integration's alone.
+    let energy =
+        |sim: &Simulation<D>| sim.kinetic_energy() + sim.potential_energy() - sim.reaction_heat();
+    let e0 = energy(&sim);
     crate::commands::experiment::common::install_ctrlc();
     let progress = progress_bar(args.until);
     let started = Instant::now();
@@ -410,7 +460,7 @@ fn execute<const D: usize>(
 
     let discs = sim.discs();
     let stats: Stats = sim.stats();
-    let e1 = sim.kinetic_energy() + sim.potential_energy();
+    let e1 = energy(&sim);
     let summary = Summary {
         file: args.file.clone(),
         dim: D,
@@ -435,6 +485,19 @@ fn execute<const D: usize>(
         step_events: sim.is_stepped().then_some(stats.step),
         neighbour_lists: sim.is_stepped().then_some(stats.neighbour_list),
         potential_energy: sim.is_stepped().then(|| sim.potential_energy()),
+        reactions: sim.reactions().map(|r| {
+            r.rules
+                .iter()
+                .zip(sim.reaction_counts())
+                .map(|(r, &count)| RuleCount {
+                    rule: edmd_io::reaction::text(r),
+                    reactants: [r.reactants.0, r.reactants.1],
+                    products: [r.products.0, r.products.1],
+                    reactions: count,
+                })
+                .collect()
+        }),
+        reaction_heat: sim.reactions().map(|_| sim.reaction_heat()),
         discs_moved_into_box: sim.adjusted_discs(),
         frames,
     };
@@ -443,14 +506,18 @@ fn execute<const D: usize>(
         t.commit()?;
     }
     let to_stdout = args.output.as_deref() == Some("-");
-    let hard = edmd_core::Potential::default();
+    let hard = edmd_io::Interactions::HARD;
+    let interactions = edmd_io::Interactions {
+        potential: sim.potential().unwrap_or(hard.potential),
+        reactions: sim.reactions().map_or(hard.reactions, |r| &r.rules),
+    };
     let write_state = |mut w: &mut dyn Write| {
-        edmd_io::write_with(
+        edmd_io::write_full(
             &mut w,
             &discs,
             sim.sim_box(),
             sim.barriers(),
-            sim.potential().unwrap_or(&hard),
+            interactions,
             format,
             sim.time(),
         )
@@ -704,6 +771,13 @@ fn human(s: &Summary) -> String {
         t += &format!(
             "\nsteps: {steps} events, {lists} neighbour lists made again; potential energy at the end {u}"
         );
+    }
+    if let (Some(rules), Some(heat)) = (&s.reactions, s.reaction_heat) {
+        let each: Vec<String> = rules
+            .iter()
+            .map(|r| format!("{} by {}", r.reactions, r.rule))
+            .collect();
+        t += &format!("\nreactions: {}; heat released {heat}", each.join(", "));
     }
     if s.discs_moved_into_box > 0 {
         t += &format!(
