@@ -20,7 +20,11 @@ Contents:
   pickling keeps the exact state. Stepped pair potentials (square wells, shoulders:
   ``from_arrays(..., potential={(0, 0): [(1.5, -1.0)]})``, ``gen.fluid(well=1.5)``) with
   ``potential``, ``potential_energy``, ``shells`` and ``shell_counts``; an Andersen heat bath
-  with ``set_thermostat(kT=..., rate=...)``.
+  with ``set_thermostat(kT=..., rate=...)``; reaction rules ``A + B -> C + D`` with
+  ``set_reactions(["0 + 1 -> 2 + 2 activation 1"])`` (or ``from_arrays(reactions=...)``,
+  ``gen.fluid(species=(0.5, 0.5), reactions=...)``, a file's ``# edmd reaction`` lines), read
+  back as ``reactions``, ``species_counts``, ``reaction_counts`` and ``reaction_heat``, and
+  measured over time by ``measure("kinetics", every=...)``.
 - :mod:`edmd.gen`: the generators of ``edmd gen`` (fluids, mixtures, the Princeton data sets).
 - :func:`pack`: the compression of ``edmd pack`` (Lubachevsky-Stillinger) to a jammed packing
   or to a packing fraction; returns ``(sim, summary)``: the packing as a :class:`Simulation`

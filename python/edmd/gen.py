@@ -123,7 +123,7 @@ def brownian(*, n=None, radius=None, mass=None, big_radius=None, big_mass=None, 
 
 
 def fluid(*, n=None, packing=None, dim=2, boundary=None, well=None, shoulder=None, depth=None,
-          kt=None, seed=1, rule="elastic", multi=False):
+          kt=None, seed=1, rule="elastic", multi=False, species=None, reactions=None):
     """A melted fluid of ``n`` equal discs (``dim=2``) or spheres (``dim=3``) at packing
     fraction ``packing``, with "periodic" (default) or "walls" ``boundary``
     (``edmd gen fluid``).
@@ -135,12 +135,23 @@ def fluid(*, n=None, packing=None, dim=2, boundary=None, well=None, shoulder=Non
     velocities to temperature ``kt`` (1 when None). Wells and shoulders need the elastic rule
     and binary collisions (``multi=False``).
 
+    ``species=(f0, f1, ...)`` gives the discs species 0, 1, ... in those number fractions
+    (summing to 1; ``edmd gen fluid --species F0,F1,...``): species k gets round(N f_k) discs,
+    placed at random (seeded by ``seed``), and a colour of its own. ``reactions`` are reaction
+    rules, as ``Simulation.set_reactions`` takes them (``edmd gen fluid --reaction RULE``),
+    their draws seeded by 1 (as ``edmd run`` runs the file ``edmd gen`` writes; another seed:
+    ``set_reactions(**{**sim.reactions, "seed": S})``, or the dict form ``{"rules": [...],
+    "seed": S}``). Rules do not go with a well or a shoulder.
+
     >>> sim = edmd.gen.fluid(n=1000, packing=0.5, seed=1)
     >>> sw = edmd.gen.fluid(n=500, packing=0.3, well=1.5, kt=1.2, seed=1)
+    >>> ab = edmd.gen.fluid(n=1000, packing=0.3, species=(0.5, 0.5),
+    ...                     reactions=["0 + 1 -> 2 + 2 activation 1"], seed=1)
     """
     return _generate(
         "fluid", dim=dim, seed=seed, n=n, packing=packing, boundary=boundary, well=well,
-        shoulder=shoulder, depth=depth, kt=kt, rule=rule, multi=multi,
+        shoulder=shoulder, depth=depth, kt=kt, rule=rule, multi=multi, species=species,
+        reactions=reactions,
     )
 
 

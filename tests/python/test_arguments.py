@@ -111,6 +111,13 @@ def from_arrays_cases(tmp):
                        {(0, 0): [(4.0, -1.0), (3.0, 1.0)]}, {(0, 0): [("3", -1.0)]},
                        {(0, 0): {"core": 2.5, "steps": [(3.0, -1.0)]}}],
          lambda v: pair(potential=v)),
+        ("reactions", ["0 + 1 -> 1 + 1", 5, [5], ["0 + 1 -> 1"], ["0 + 0 -> 1 + 1 heat nan"],
+                       ["0 + 0 -> 1 + 1 probability 2"], ["0 + 9 -> 1 + 1"],
+                       [{"reactants": (0, 0)}], [{"reactants": (0, -1), "products": (1, 1)}],
+                       [{"reactants": (0, 0), "products": (1, 1), "activation": -1}],
+                       ["0 + 0 -> 1 + 1", "0 + 0 -> 2 + 2"], {"seed": 1},
+                       {"rules": ["0 + 0 -> 1 + 1"], "seed": -1}],
+         lambda v: pair(reactions=v)),
     ]
 
 
@@ -125,6 +132,21 @@ def thermostat_cases(tmp):
     ]
 
 
+def reactions_cases(tmp):
+    rule = ["0 + 0 -> 1 + 1"]
+    return [
+        ("rules", ["0 + 0 -> 1 + 1", 5, [5], ["0 + 0 -> 1"], ["0 + 0 -> 1 + 1 activation -1"],
+                   ["0 + 0 -> 1 + 1 probability 1.5"], ["0 + 0 -> 1 + 1 heat inf"],
+                   ["0 + 9 -> 1 + 1"], [{"reactants": (0, 0)}],
+                   [{"reactants": (0, 0), "products": (1, 1), "probability": "1"}],
+                   ["0 + 0 -> 1 + 1", "0 + 0 -> 2 + 2"]],
+         lambda v: small().set_reactions(v)),
+        ("seed", [-1, 2**70, 1.5, "1", True], lambda v: small().set_reactions(rule, seed=v)),
+        ("colours", [[1, 2, 3], {1: "red"}, {1: (1, 2)}, {1: (1, 2, 256)}, {-1: (1, 2, 3)}],
+         lambda v: small().set_reactions(rule, colours=v)),
+    ]
+
+
 def from_file_cases(tmp):
     state = tmp / "state.txt"  # written by the test before the call
     return [
@@ -133,6 +155,7 @@ def from_file_cases(tmp):
         ("format", ["weather", 5], lambda v: edmd.Simulation.from_file(state, format=v)),
         ("columns", ["weather", 5], lambda v: edmd.Simulation.from_file(state, columns=v)),
         ("rule", ["weather", 5], lambda v: edmd.Simulation.from_file(state, rule=v)),
+        ("seed", [-1, 2**70, 1.5, "1", True], lambda v: edmd.Simulation.from_file(state, seed=v)),
         ("data", ["abc", 5, None, b"", b"EDMDCK garbage"],
          lambda v: edmd.Simulation.from_checkpoint(v)),
     ]
@@ -169,6 +192,13 @@ def gen_cases(tmp):
         ("shoulder", [-1, 0, 1.0, 101] + REAL_HOSTILE,
          lambda v: edmd.gen.fluid(n=20, shoulder=v)),
         ("depth", [-1, 0] + REAL_HOSTILE, lambda v: edmd.gen.fluid(n=20, well=1.5, depth=v)),
+        ("species", [(0.5, 0.6), (-0.5, 1.5), (NAN, 1.0), (INF,), 0.5, "0.5,0.5", [0.5, "a"],
+                     [1 + 1j], True, [[0.5, 0.5]], [0.5] * 300],
+         lambda v: edmd.gen.fluid(n=20, species=v)),
+        ("reactions", [["0 + 1 -> 2 + 2"], "0 + 0 -> 1 + 1", [5], ["0 + 0 -> 1"],
+                       [{"reactants": (0, 0), "products": (1, 1), "probability": 2}],
+                       ["0 + 0 -> 1 + 1", "0 + 0 -> 2 + 2"]],
+         lambda v: edmd.gen.fluid(n=20, reactions=v)),
     ]
     return cases
 
@@ -203,7 +233,7 @@ def pack_cases(tmp):
 
 
 GROUPS = [run_cases, measure_cases, write_cases, setter_cases, from_arrays_cases,
-          thermostat_cases, from_file_cases, gen_cases, pack_cases]
+          thermostat_cases, reactions_cases, from_file_cases, gen_cases, pack_cases]
 
 
 def ids():

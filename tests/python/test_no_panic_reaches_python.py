@@ -19,7 +19,7 @@ import pytest
 import edmd
 
 MEASUREMENTS = ["temperature", "pressure", "collisions", "speeds", "msd", "species", "energy",
-                "rdf"]
+                "rdf", "kinetics"]
 
 
 def empty():
@@ -47,6 +47,20 @@ def test_zero_particles_with_a_potential_and_a_thermostat():
     sim.results()
     assert sim.shells.shape == (0, 3) and sim.potential_energy == 0.0
     assert pickle.loads(pickle.dumps(sim)).thermostat == sim.thermostat
+
+
+def test_zero_particles_with_reaction_rules():
+    # No disc is of species 0 or 1, but each rule makes a reactant of the other.
+    sim = edmd.Simulation.from_arrays(np.zeros((0, 2)), np.zeros((0, 2)), 1.0, box=(10, 10),
+                                      reactions=["0 + 1 -> 1 + 0"])
+    sim.measure("kinetics", "species", every=0.1)
+    sim.run(until=1.0)
+    sim.results()
+    assert sim.species_counts.tolist() == [0, 0]
+    assert sim.reaction_counts.tolist() == [0] and sim.reaction_heat == 0.0
+    assert pickle.loads(pickle.dumps(sim)).reactions == sim.reactions
+    sim.set_reactions(None)
+    assert sim.species_counts.shape == (0,)
 
 
 def test_zero_particles_run_and_read():
@@ -107,6 +121,11 @@ USES = {
     "thermostat": lambda sim: sim.thermostat,
     "shells": lambda sim: sim.shells,
     "potential_energy": lambda sim: sim.potential_energy,
+    "set_reactions": lambda sim: sim.set_reactions(["0 + 0 -> 1 + 1"]),
+    "reactions": lambda sim: sim.reactions,
+    "species_counts": lambda sim: sim.species_counts,
+    "reaction_counts": lambda sim: sim.reaction_counts,
+    "reaction_heat": lambda sim: sim.reaction_heat,
 }
 
 

@@ -12,6 +12,7 @@ mod args;
 mod arrays;
 mod pack;
 mod potential;
+mod reactions;
 mod state;
 
 use std::io::Write;
@@ -145,8 +146,9 @@ fn built<const D: usize>(
     name: &str,
     sys: &edmd_io::LoadedSystem<D>,
     opts: Options,
+    seed: u64,
 ) -> PyResult<Simulation<D>> {
-    let mut sim = edmd::input::build(name, sys, opts).map_err(cli_error)?;
+    let mut sim = edmd::input::build_seeded(name, sys, opts, seed).map_err(cli_error)?;
     if sys.time != 0.0 {
         sim.start_at(sys.time)
             .map_err(|e| value_error(format!("{name}: {e}")))?;
@@ -311,8 +313,11 @@ fn extension(path: &Path) -> Option<String> {
 ///
 /// Beyond hard cores: a stepped pair potential (square wells, shoulders, ramps of steps;
 /// `from_arrays(potential=...)`, `edmd.gen.fluid(well=...)`, or a file's `# edmd potential`
-/// lines), read back as `potential`, `potential_energy`, `shells` and `shell_counts`; and an
-/// Andersen heat bath, `set_thermostat(kT=..., rate=...)`.
+/// lines), read back as `potential`, `potential_energy`, `shells` and `shell_counts`; an
+/// Andersen heat bath, `set_thermostat(kT=..., rate=...)`; and reactive collisions, rules
+/// `A + B -> C + D` that change the species of colliding discs (`set_reactions`,
+/// `from_arrays(reactions=...)`, or a file's `# edmd reaction` lines), read back as
+/// `reactions`, `species_counts`, `reaction_counts` and `reaction_heat`.
 ///
 /// Threads: a simulation is used by one thread at a time. While `run` is under way in one
 /// thread, every use of the simulation from another thread (reading `positions`, pickling,
@@ -426,10 +431,10 @@ fn borrow_mut<'py>(slf: &Bound<'py, PySimulation>) -> PyResult<PyRefMut<'py, PyS
 impl PySimulation {
     /// Reads a data file, as `edmd run FILE` does: the course format, the Princeton format
     /// (with edmd's extension: 3D files, walls or periodic boundaries, barriers, species,
-    /// stepped potentials from `# edmd potential` lines), a
-    /// GSD file of the HOOMD schema (HOOMD-blue's, the `gsd` package's or edmd's own: a
-    /// periodic box unless edmd wrote walls; positions and velocities to float32 precision,
-    /// exact for files edmd wrote with `write`) or an `edmd run --checkpoint` file.
+    /// stepped potentials from `# edmd potential` lines, reaction rules from `# edmd reaction`
+    /// lines), a GSD file of the HOOMD schema (HOOMD-blue's, the `gsd` package's or edmd's
+    /// own: a periodic box unless edmd wrote walls; positions and velocities to float32
+    /// precision, exact for files edmd wrote with `write`) or an `edmd run --checkpoint` file.
     ///
     /// Args:
     ///     path: the file.
@@ -441,6 +446,8 @@ impl PySimulation {
     ///     multi: multi-disc collisions (elastic rule only); False when None.
     ///     allow_overlaps: run overlapping input anyway (see `edmd run --allow-overlaps`);
     ///         False when None.
+    ///     seed: the seed of the draws of the file's reaction rules, a whole number from 0 to
+    ///         2^64 - 1 (1 when None, as `edmd run` without `--seed`).
     ///
     /// Raises:
     ///     ValueError: the file cannot be read or is wrong; the message names the line, as
@@ -448,7 +455,8 @@ impl PySimulation {
     ///
     /// >>> sim = edmd.Simulation.from_file("examples/data/gas-300.txt")
     #[staticmethod]
-    #[pyo3(signature = (path, *, frame=None, format=None, columns=None, rule=None, multi=None, allow_overlaps=None))]
+    #[pyo3(signature = (path, *, frame=None, format=None, columns=None, rule=None, multi=None, allow_overlaps=None, seed=None))]
+    #[allow(clippy::too_many_arguments)]
     fn from_file(
         path: &Bound<'_, PyAny>,
         frame: Option<&Bound<'_, PyAny>>,
@@ -457,6 +465,7 @@ impl PySimulation {
         rule: Option<&Bound<'_, PyAny>>,
         multi: Option<&Bound<'_, PyAny>>,
         allow_overlaps: Option<&Bound<'_, PyAny>>,
+        seed: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<Self> {
         let path = args::path(path, "path")?;
         let frame = args::opt_frame(frame, "frame")?;
@@ -465,6 +474,10 @@ impl PySimulation {
         let rule = args::opt_text(rule, "rule")?;
         let multi = args::opt_flag(multi, "multi")?;
         let allow_overlaps = args::opt_flag(allow_overlaps, "allow_overlaps")?;
+        let seed = seed
+            .filter(|s| !s.is_none())
+            .map(|s| args::count(s, "seed"))
+            .transpose()?;
         guarded("from_file", || {
             Self::read_file(
                 path,
@@ -474,6 +487,7 @@ impl PySimulation {
                 rule.as_deref(),
                 multi,
                 allow_overlaps,
+                seed,
             )
         })
     }
@@ -501,6 +515,13 @@ impl PySimulation {
     ///         across the step: `{(0, 0): [(1.5, -1.0)]}` is a square well of depth 1 out to
     ///         1.5, `{(0, 0): [(1.5, 1.0)]}` a shoulder of height 1. Pairs not named are hard
     ///         cores only. Needs the elastic rule and binary collisions (no `multi`).
+    ///     reactions: reaction rules (None: none), as `set_reactions` takes them: a list of
+    ///         rules, each `"A + B -> C + D"` (optionally followed by `activation E`,
+    ///         `probability P`, `heat Q`) or a dict `{"reactants": (A, B), "products": (C, D),
+    ///         "activation": E, "probability": P, "heat": Q}`, with the seed 1; or the dict
+    ///         `{"rules": [...], "seed": S, "colours": {species: (r, g, b)}}` that
+    ///         `Simulation.reactions` gives back. Needs the elastic rule, binary collisions
+    ///         and no stepped potential.
     ///
     /// Raises:
     ///     TypeError: an argument that is not numbers (strings, complex numbers, booleans,
@@ -508,7 +529,8 @@ impl PySimulation {
     ///     ValueError: shapes that do not match, non-finite values, a kinetic energy that
     ///         overflows, overlapping discs, discs outside the box, a bad box, a potential
     ///         whose steps are not in increasing radius, lie inside the hard core, or name a
-    ///         species no disc has (the message starts "potential:").
+    ///         species no disc has (the message starts "potential:"), reaction rules that
+    ///         cannot be (the message starts "reactions:").
     ///
     /// >>> import numpy as np
     /// >>> sim = edmd.Simulation.from_arrays([[2.0, 5.0], [8.0, 5.0]], [[1.0, 0.0], [-1.0, 0.0]],
@@ -519,8 +541,11 @@ impl PySimulation {
     /// >>> well = edmd.Simulation.from_arrays([[5.0, 10.0], [8.0, 10.0]], [[0.5, 0.0], [-0.5, 0.0]],
     /// ...                                    radii=0.5, box=(20.0, 20.0),
     /// ...                                    potential={(0, 0): [(1.5, -1.0)]})
+    /// >>> pair = edmd.Simulation.from_arrays([[2.0, 5.0], [8.0, 5.0]], [[1.0, 0.0], [-1.0, 0.0]],
+    /// ...                                    radii=1.0, box=(10.0, 10.0), species=[0, 1],
+    /// ...                                    reactions=["0 + 1 -> 2 + 2 activation 0.5"])
     #[staticmethod]
-    #[pyo3(signature = (positions, velocities, radii, masses=None, r#box=None, boundary=None, species=None, rule=None, multi=None, allow_overlaps=None, potential=None))]
+    #[pyo3(signature = (positions, velocities, radii, masses=None, r#box=None, boundary=None, species=None, rule=None, multi=None, allow_overlaps=None, potential=None, reactions=None))]
     #[allow(clippy::too_many_arguments)]
     fn from_arrays(
         positions: &Bound<'_, PyAny>,
@@ -534,6 +559,7 @@ impl PySimulation {
         multi: Option<&Bound<'_, PyAny>>,
         allow_overlaps: Option<&Bound<'_, PyAny>>,
         potential: Option<&Bound<'_, PyAny>>,
+        reactions: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<Self> {
         let input = arrays::Input::new(
             positions, velocities, radii, masses, r#box, boundary, species, potential,
@@ -545,16 +571,24 @@ impl PySimulation {
             args::opt_flag(multi, "multi")?,
             args::opt_flag(allow_overlaps, "allow_overlaps")?,
         )?;
+        let reactions = match reactions {
+            Some(r) => reactions::parse(r, "reactions")?,
+            None => None,
+        };
+        /// The simulation of the arrays, with the rules.
+        fn made<const D: usize>(
+            input: &arrays::Input,
+            opts: Options,
+            reactions: Option<edmd_core::Reactions>,
+        ) -> PyResult<State<D>> {
+            let mut sim = input.build::<D>(opts)?;
+            reactions::apply(&mut sim, reactions, "reactions")?;
+            Ok(State::new(sim, Format::Princeton(ColumnOrder::RadiusMass)))
+        }
         guarded("from_arrays", || {
             let inner = match input.dim {
-                3 => Inner::Three(State::new(
-                    input.build::<3>(opts)?,
-                    Format::Princeton(ColumnOrder::RadiusMass),
-                )),
-                _ => Inner::Two(State::new(
-                    input.build::<2>(opts)?,
-                    Format::Princeton(ColumnOrder::RadiusMass),
-                )),
+                3 => Inner::Three(made(&input, opts, reactions)?),
+                _ => Inner::Two(made(&input, opts, reactions)?),
             };
             Ok(PySimulation { inner })
         })
@@ -741,16 +775,21 @@ impl PySimulation {
     /// virial, Z = PA/NkT with block errors), "collisions" (collision frequency, free paths
     /// and times), "speeds" (against the Maxwell-Boltzmann law), "msd", "species", "energy"
     /// (kinetic, potential and total energy per particle; with a thermostat, the heat
-    /// capacity), "rdf" (the radial distribution function g(r)). Events are
-    /// watched in Rust; samples are taken at `start + k * every` by `run(until=...)` (not by
-    /// `run(events=...)`, which is not timed); `results()` gives what was measured. Attaching
-    /// again starts afresh. Pickles and checkpoints keep the measurements under way. As with
-    /// `edmd run --sample-every`, a `run` that would take more than 1000000 samples is
-    /// refused.
+    /// capacity), "rdf" (the radial distribution function g(r)), "kinetics" (the number of
+    /// discs of each species over time, and each reaction rule's reactions and rate constant
+    /// k, reactions per unit volume and time = k n_A n_B, k n_A^2 / 2 for like reactants, with
+    /// its block error). Events are watched in Rust; samples are taken at `start + k * every`
+    /// by `run(until=...)` (not by `run(events=...)`, which is not timed); `results()` gives
+    /// what was measured. Attaching again starts afresh. Pickles and checkpoints keep the
+    /// measurements under way. As with `edmd run --sample-every`, a `run` that would take more
+    /// than 1000000 samples is refused.
     ///
     /// >>> sim.measure("pressure", "speeds", every=1.0)
     /// >>> sim.run(until=sim.time + 10.0)
     /// >>> sim.results()["pressure"]["Z"]["value"]
+    /// >>> sim.measure("kinetics", every=0.5)   # with reaction rules set
+    /// >>> sim.run(until=sim.time + 10.0)
+    /// >>> sim.results()["tables"]["kinetics"]["species0"]   # species 0 over time
     #[pyo3(signature = (*names, every))]
     fn measure(
         slf: &Bound<'_, Self>,
@@ -774,8 +813,14 @@ impl PySimulation {
                 ))
             })?;
             let m = Measure::from_str(&name, true).map_err(|_| {
+                let known: Vec<String> = Measure::value_variants()
+                    .iter()
+                    .filter_map(|v| v.to_possible_value())
+                    .map(|v| v.get_name().to_string())
+                    .collect();
                 value_error(format!(
-                    "measure: unknown measurement '{name}' (one of: temperature, pressure, collisions, speeds, msd, species, energy, rdf)"
+                    "measure: unknown measurement '{name}' (one of: {})",
+                    known.join(", ")
                 ))
             })?;
             which.push(m);
@@ -832,9 +877,11 @@ impl PySimulation {
     /// name and moved into place, as `edmd run` writes, and a refused call (a bad format, a
     /// system the course format cannot hold, a folder) leaves every file as it was.
     ///
-    /// A stepped potential is written with the state in Princeton files (`# edmd potential`
-    /// lines, as `edmd run` writes them) and in checkpoints, so `from_file` reads it back;
-    /// XYZ and GSD frames hold no potential, and the course format refuses a stepped system.
+    /// A stepped potential and reaction rules are written with the state in Princeton files
+    /// (`# edmd potential` and `# edmd reaction` lines, as `edmd run` writes them) and in
+    /// checkpoints, so `from_file` reads them back (a Princeton file holds the rules, not the
+    /// seed of their draws or the counts so far: a checkpoint holds all); XYZ and GSD frames
+    /// hold neither, and the course format refuses both.
     ///
     /// >>> sim.write("state.txt")
     #[pyo3(signature = (path, *, format=None))]
@@ -1014,8 +1061,9 @@ impl PySimulation {
     /// Event counts so far: a dict with "disc_disc", "wall", "cell_crossing", "stale",
     /// "barrier" (as `edmd run` reports them), "step" (crossings of and bounces off the steps
     /// of a stepped potential; hard-core collisions count in "disc_disc"), "thermostat"
-    /// (velocities redrawn by the thermostat) and "neighbour_list" (under a stepped potential,
-    /// whose discs have no cell crossings: neighbour lists made again).
+    /// (velocities redrawn by the thermostat), "neighbour_list" (under a stepped potential,
+    /// whose discs have no cell crossings: neighbour lists made again) and "reaction"
+    /// (reactive collisions, counted in "disc_disc" too).
     #[getter]
     fn stats<'py>(slf: &Bound<'py, Self>) -> PyResult<Bound<'py, PyDict>> {
         let st = each!(&get(slf)?.inner, s => s.sim.stats());
@@ -1028,6 +1076,7 @@ impl PySimulation {
         d.set_item("step", st.step)?;
         d.set_item("thermostat", st.thermostat)?;
         d.set_item("neighbour_list", st.neighbour_list)?;
+        d.set_item("reaction", st.reaction)?;
         Ok(d)
     }
 
@@ -1167,6 +1216,110 @@ impl PySimulation {
         })
     }
 
+    /// The reaction rules: None (collisions are elastic), or a dict {"rules", "seed",
+    /// "colours"} as `set_reactions` takes it (`sim.set_reactions(**sim.reactions)` sets them
+    /// again): "rules" a list of dicts {"reactants": (A, B), "products": (C, D),
+    /// "activation", "probability", "heat"}, "seed" the seed of the draws, "colours" a dict
+    /// {species: (r, g, b)} of the colour a disc takes on becoming each species the rules make.
+    #[getter]
+    fn reactions<'py>(slf: &Bound<'py, Self>) -> PyResult<Option<Bound<'py, PyDict>>> {
+        let this = get(slf)?;
+        each!(&this.inner, s => s.sim.reactions().map(|r| reactions::to_dict(slf.py(), r)))
+            .transpose()
+    }
+
+    /// Makes collisions reactive from now on, as a file's `# edmd reaction` lines do: a rule
+    /// `A + B -> C + D` applies when a disc of species A collides with one of species B and the
+    /// kinetic energy of their relative motion along the line of centres, `mu v_n^2 / 2`, is at
+    /// least the activation energy; it then happens with its probability: the disc of A becomes
+    /// C, the one of B becomes D, and the heat is released into their normal relative motion
+    /// (momentum is kept; negative heat is absorbed from it, and a collision that cannot pay
+    /// it stays elastic). Species differ in label (and colour) only: a disc keeps its mass and
+    /// radius. `set_reactions(None)` makes collisions elastic again. Setting rules starts
+    /// `reaction_counts` and `reaction_heat` again from 0; if the "kinetics" measurement is
+    /// attached and the reactions change, the attached measurements start again from now too,
+    /// as `measure` with the same names would (kinetics measures the rules in force). Pickles
+    /// and checkpoints carry the rules, the counts and the heat, so a restored simulation
+    /// continues bit for bit.
+    ///
+    /// Args:
+    ///     rules: a list of rules, each a str `"A + B -> C + D"` optionally followed by
+    ///         `activation E`, `probability P` and `heat Q` (the text of a `# edmd reaction`
+    ///         line), or a dict {"reactants": (A, B), "products": (C, D), "activation": E,
+    ///         "probability": P, "heat": Q}; unless given, the activation is 0, the
+    ///         probability 1 and the heat 0. Species are whole numbers from 0 to 255; each
+    ///         reactant must be a species some disc is or some rule makes, and each pair of
+    ///         species has at most one rule (`A + B` and `B + A` are one pair). None removes
+    ///         the rules.
+    ///     seed: the seed of the draws of rules whose probability is below 1 (and of which of
+    ///         two like reactants becomes which product), a whole number from 0 to 2^64 - 1
+    ///         (1 when None, as `edmd run` without `--seed`). The draws depend on the seed and
+    ///         the colliding discs alone, so a run gives the same reactions however it is
+    ///         sliced.
+    ///     colours: {species: (r, g, b)}, the colour a disc takes on becoming a species (in
+    ///         written files and the viewer); a species made by a rule and not named takes the
+    ///         colour of the first disc of that species, else one of ten distinct colours.
+    ///
+    /// Raises:
+    ///     TypeError, ValueError: a bad argument, named in the message (negative activation,
+    ///         probability outside [0, 1], non-finite numbers, unknown species, two rules for
+    ///         one pair); rules with a stepped potential, multi-disc collisions or the swap
+    ///         rule. A refused call changes nothing.
+    ///
+    /// >>> sim.set_reactions(["0 + 1 -> 1 + 1 activation 1.0 probability 0.5"], seed=3)
+    /// >>> sim.set_reactions([{"reactants": (0, 0), "products": (1, 2), "heat": -0.5}])
+    /// >>> sim.set_reactions(None)
+    #[pyo3(signature = (rules, *, seed=None, colours=None))]
+    fn set_reactions(
+        slf: &Bound<'_, Self>,
+        rules: &Bound<'_, PyAny>,
+        seed: Option<&Bound<'_, PyAny>>,
+        colours: Option<&Bound<'_, PyAny>>,
+    ) -> PyResult<()> {
+        let reactions = reactions::from_parts(rules, seed, colours, ["rules", "seed", "colours"])?;
+        let mut this = get_mut(slf)?;
+        guarded("set_reactions", || {
+            each!(&mut this.inner, s => {
+                reactions::apply(&mut s.sim, reactions, "rules")?;
+                // A kinetics measurement counts the reactions of the rules it started
+                // with: under other rules its counts would go wrong, so the measurements
+                // start again from now.
+                if let Some(m) = s.measuring.as_ref().filter(|m| !m.fits(&s.sim)) {
+                    let (which, every) = (m.which.clone(), m.every);
+                    s.measure(&which, every);
+                }
+                Ok(())
+            })
+        })
+    }
+
+    /// Reactions so far, per rule of `reactions["rules"]` (since the rules were set): (k,)
+    /// int64; empty without rules.
+    #[getter]
+    fn reaction_counts<'py>(slf: &Bound<'py, Self>) -> PyResult<Bound<'py, PyArray1<i64>>> {
+        let this = get(slf)?;
+        let v: Vec<i64> =
+            each!(&this.inner, s => s.sim.reaction_counts().iter().map(|&c| c as i64).collect());
+        Ok(PyArray1::from_vec(slf.py(), v))
+    }
+
+    /// Heat released by the reactions so far (the sum of their rules' heats; 0.0 without
+    /// rules): `kinetic_energy - reaction_heat` is conserved, to rounding (without a
+    /// thermostat or a stepped potential).
+    #[getter]
+    fn reaction_heat(slf: &Bound<'_, Self>) -> PyResult<f64> {
+        Ok(each!(&get(slf)?.inner, s => s.sim.reaction_heat()))
+    }
+
+    /// How many discs are of each species now: an int64 array indexed by species, from 0 to
+    /// the largest species a disc is or a rule names (so a product not made yet counts 0).
+    #[getter]
+    fn species_counts<'py>(slf: &Bound<'py, Self>) -> PyResult<Bound<'py, PyArray1<i64>>> {
+        let this = get(slf)?;
+        let v = each!(&this.inner, s => species_counts(&s.sim));
+        Ok(PyArray1::from_vec(slf.py(), v))
+    }
+
     fn __repr__(slf: &Bound<'_, Self>) -> PyResult<String> {
         let this = get(slf)?;
         let lengths: Vec<String> = this.lengths().iter().map(|l| num(*l)).collect();
@@ -1182,8 +1335,32 @@ impl PySimulation {
     }
 }
 
+/// Discs of each species, indexed by species, up to the largest species a disc is or a rule
+/// names (the width of the engine's `Kinetics` counts).
+fn species_counts<const D: usize>(sim: &Simulation<D>) -> Vec<i64> {
+    let named = sim.reactions().map_or(0, |r| {
+        r.rules
+            .iter()
+            .flat_map(|r| [r.reactants.0, r.reactants.1, r.products.0, r.products.1])
+            .map(|s| usize::from(s) + 1)
+            .max()
+            .unwrap_or(0)
+    });
+    let width = (0..sim.len())
+        .map(|i| usize::from(sim.species(i)) + 1)
+        .max()
+        .unwrap_or(0)
+        .max(named);
+    let mut counts = vec![0i64; width];
+    for i in 0..sim.len() {
+        counts[usize::from(sim.species(i))] += 1;
+    }
+    counts
+}
+
 impl PySimulation {
     /// `from_file`'s work.
+    #[allow(clippy::too_many_arguments)]
     fn read_file(
         path: PathBuf,
         frame: Option<i64>,
@@ -1192,6 +1369,7 @@ impl PySimulation {
         rule: Option<&str>,
         multi: bool,
         allow_overlaps: bool,
+        seed: Option<u64>,
     ) -> PyResult<Self> {
         let name = path.to_string_lossy().into_owned();
         // The file's own rule unless told: swap for course files.
@@ -1211,15 +1389,17 @@ impl PySimulation {
                 || rule.is_some()
                 || multi
                 || allow_overlaps
+                || seed.is_some()
             {
                 return Err(value_error(format!(
-                    "{name}: a checkpoint carries its run's options: drop frame, format, columns, rule, multi and allow_overlaps"
+                    "{name}: a checkpoint carries its run's options: drop frame, format, columns, rule, multi, allow_overlaps and seed"
                 )));
             }
             return Ok(PySimulation {
                 inner: from_checkpoint(&bytes, &name)?,
             });
         }
+        let seed = seed.unwrap_or(edmd::input::DEFAULT_SEED);
         let order = match columns {
             None | Some("radius-mass") => ColumnOrder::RadiusMass,
             Some("mass-radius") => ColumnOrder::MassRadius,
@@ -1248,12 +1428,12 @@ impl PySimulation {
                     )));
                 }
                 Inner::Two(State::new(
-                    built(&name, &sys, opts(sys.format)?)?,
+                    built(&name, &sys, opts(sys.format)?, seed)?,
                     sys.format,
                 ))
             }
             edmd_io::AnyLoaded::Three(sys) => Inner::Three(State::new(
-                built(&name, &sys, opts(sys.format)?)?,
+                built(&name, &sys, opts(sys.format)?, seed)?,
                 sys.format,
             )),
         };
@@ -1289,6 +1469,12 @@ fn render(inner: &Inner, kind: &str, path: &Path) -> PyResult<Vec<u8>> {
                         path.display()
                     )))
                 }
+                Some(Format::Course) if s.sim.reactions().is_some() => {
+                    return Err(value_error(format!(
+                        "{}: cannot write the course format: it has no place for the reaction rules (write the Princeton format, or a checkpoint)",
+                        path.display()
+                    )))
+                }
                 Some(Format::Course) if s.sim.sim_box().lengths.len() == 2 => {
                     let flat: Vec<edmd_core::Disc> = discs.iter().map(|d| d.with_dim()).collect();
                     let b = s.sim.sim_box();
@@ -1309,12 +1495,15 @@ fn render(inner: &Inner, kind: &str, path: &Path) -> PyResult<Vec<u8>> {
                 Some(Format::Course) => {
                     return Err(value_error("format: the course format holds 2D systems only"))
                 }
-                // The stepped potential, if any, as `# edmd potential` lines (as `edmd run`
-                // writes its output).
+                // The stepped potential and the reaction rules, if any, as `# edmd potential`
+                // and `# edmd reaction` lines (as `edmd run` writes its output).
                 Some(fmt) => {
                     let hard = edmd_core::Potential::default();
-                    let potential = s.sim.potential().unwrap_or(&hard);
-                    edmd_io::write_with(&mut w, &discs, s.sim.sim_box(), s.sim.barriers(), potential, fmt, s.sim.time())
+                    let interactions = edmd_io::Interactions {
+                        potential: s.sim.potential().unwrap_or(&hard),
+                        reactions: s.sim.reactions().map_or(&[], |r| &r.rules),
+                    };
+                    edmd_io::write_full(&mut w, &discs, s.sim.sim_box(), s.sim.barriers(), interactions, fmt, s.sim.time())
                         .map_err(io_error)?
                 }
                 None => {
@@ -1441,7 +1630,7 @@ fn _restore(data: &Bound<'_, PyAny>) -> PyResult<PySimulation> {
 /// Makes a system as `edmd gen KIND` does (same checks, messages and seeds) and returns it as
 /// a simulation. Called by the functions in `edmd.gen`.
 #[pyfunction]
-#[pyo3(signature = (kind, *, dim=2, seed=1, course=false, n=None, radius=None, speed=None, mass=None, kt=None, packing=None, boundary=None, angle=None, impact=None, region=None, big_radius=None, big_mass=None, size_ratio=None, fraction_large=None, spread=None, well=None, shoulder=None, depth=None, rule="elastic", multi=false))]
+#[pyo3(signature = (kind, *, dim=2, seed=1, course=false, n=None, radius=None, speed=None, mass=None, kt=None, packing=None, boundary=None, angle=None, impact=None, region=None, big_radius=None, big_mass=None, size_ratio=None, fraction_large=None, spread=None, well=None, shoulder=None, depth=None, rule="elastic", multi=false, species=None, reactions=None))]
 #[allow(clippy::too_many_arguments)]
 fn _generate(
     kind: &str,
@@ -1468,12 +1657,35 @@ fn _generate(
     depth: Option<f64>,
     rule: &str,
     multi: bool,
+    species: Option<&Bound<'_, PyAny>>,
+    reactions: Option<&Bound<'_, PyAny>>,
 ) -> PyResult<PySimulation> {
-    use edmd::gen::{make, GenArgs, Generated};
+    use edmd::gen::{make_with, ChemistryArgs, GenArgs, Generated};
     let dim =
         edmd::options::parse_dim(&dim.to_string()).map_err(|e| value_error(format!("dim: {e}")))?;
     let boundary = parse_boundary(boundary, "boundary")?;
     let opts = options(rule, multi, false)?;
+    // `edmd gen --species F0,F1,... --reaction RULE ...`: the fractions and the rules' texts
+    // are given to the command's own function, which checks them as it checks its options.
+    let fractions = species
+        .filter(|s| !s.is_none())
+        .map(|s| arrays::float_vector(s, "species", "the number fractions of species 0, 1, ..."))
+        .transpose()?;
+    let reactions = match reactions {
+        Some(r) => reactions::parse(r, "reactions")?,
+        None => None,
+    };
+    let chemistry = ChemistryArgs {
+        species: fractions.map(|f| {
+            f.iter()
+                .map(|x| format!("{x:?}"))
+                .collect::<Vec<_>>()
+                .join(",")
+        }),
+        reaction: reactions.as_ref().map_or_else(Vec::new, |r| {
+            r.rules.iter().map(edmd_io::reaction::text).collect()
+        }),
+    };
     let args = GenArgs {
         kind: kind.to_string(),
         output: String::new(),
@@ -1501,7 +1713,9 @@ fn _generate(
     };
     // `edmd gen`'s messages, with the Python argument names instead of its flags.
     let message = |e: anyhow::Error| {
-        let mut m = format!("{e:#}").replace('\n', " ");
+        let mut m = format!("{e:#}")
+            .replace('\n', " ")
+            .replace("--reaction", "reactions");
         for flag in [
             "fraction-large",
             "size-ratio",
@@ -1522,6 +1736,7 @@ fn _generate(
             "depth",
             "course",
             "seed",
+            "species",
             "dim",
             "n",
         ] {
@@ -1560,19 +1775,34 @@ fn _generate(
         }
         .map_err(|e| value_error(format!("gen {kind}: {e}")))
     }
+    /// [`build`] with the rules, as `edmd run` sets those of the file `edmd gen` writes.
+    fn reactive<const D: usize>(
+        system: &edmd_core::System<D>,
+        potential: &edmd_core::Potential,
+        opts: Options,
+        kind: &str,
+        reactions: Option<edmd_core::Reactions>,
+    ) -> PyResult<Simulation<D>> {
+        let mut sim = build(system, potential, opts, kind)?;
+        reactions::apply(&mut sim, reactions, "reactions")?;
+        Ok(sim)
+    }
     guarded("gen", || {
-        let generated = make(&args).map_err(message)?;
+        let (generated, _) = make_with(&args, &chemistry).map_err(message)?;
         let potential = args.potential_of(&generated).map_err(message)?;
         match generated {
             Generated::Two(_, Format::Course) if !potential.is_hard() => Err(value_error(format!(
                 "gen {kind}: the course format has no place for a potential (course with well or shoulder)"
             ))),
             Generated::Two(system, format) => Ok(PySimulation {
-                inner: Inner::Two(State::new(build(&system, &potential, opts, kind)?, format)),
+                inner: Inner::Two(State::new(
+                    reactive(&system, &potential, opts, kind, reactions)?,
+                    format,
+                )),
             }),
             Generated::Three(system) => Ok(PySimulation {
                 inner: Inner::Three(State::new(
-                    build(&system, &potential, opts, kind)?,
+                    reactive(&system, &potential, opts, kind, reactions)?,
                     Format::Princeton(ColumnOrder::RadiusMass),
                 )),
             }),
