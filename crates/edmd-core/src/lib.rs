@@ -49,5 +49,5 @@ pub use simulation::{
 };
 pub use state::{
     Barrier, Boundary, Colour, Demon, Disc, PairSteps, Potential, Reaction, Reactions, SimBox,
-    Step, System, MAX_REACTION_SPECIES,
+    Step, System, MAX_REACTION_SPECIES, species_colour,
 };

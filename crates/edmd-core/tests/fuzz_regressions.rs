@@ -883,3 +883,38 @@ fn multi_disc_collision_whose_pair_is_a_hair_beyond_the_tolerance_is_resolved() 
         .iter()
         .all(|d| d.pos.is_finite() && d.vel.is_finite()));
 }
+
+/// Found by fuzzing (`read_checkpoint`,
+/// `fuzz/corpus/read_checkpoint/read_checkpoint-species-65535-with-potential`): a stepped
+/// potential's tables are per pair of the discs' species, and a checkpoint (or file) with a
+/// disc of species 65 535 asked for 34 GB and aborted. Species go from 0 to 255 under a
+/// stepped potential, as its own species do.
+#[test]
+fn a_species_beyond_the_potentials_range_is_refused() {
+    // The fuzz input: a mode byte (1: a 3D payload), then the payload, which the target frames.
+    let input = include_bytes!(
+        "../../../fuzz/corpus/read_checkpoint/read_checkpoint-species-65535-with-potential"
+    );
+    let payload = &input[1..];
+    let mut bytes = b"EDMDCKPT".to_vec();
+    bytes.extend_from_slice(&edmd_core::CHECKPOINT_VERSION.to_le_bytes());
+    bytes.extend_from_slice(&3u32.to_le_bytes());
+    bytes.extend_from_slice(&(payload.len() as u64).to_le_bytes());
+    bytes.extend_from_slice(payload);
+    let crc = crc32fast::hash(&bytes);
+    bytes.extend_from_slice(&crc.to_le_bytes());
+    let e = Simulation::<3>::from_checkpoint(&bytes).unwrap_err();
+    assert!(e.to_string().contains("species go from 0 to 255"), "{e}");
+    let mut disc = Disc::new(Vector::new([1.0, 1.0]), Vector::new([1.0, 0.0]), 0.5);
+    disc.species = 256;
+    let e = Simulation::with_potential_at(
+        &[disc],
+        SimBox::periodic([10.0, 10.0]),
+        &[],
+        &edmd_core::Potential::single(0, 0, 1.5, -1.0),
+        Options::default(),
+        0.0,
+    )
+    .unwrap_err();
+    assert!(e.to_string().contains("disc 0 is of species 256"), "{e}");
+}

@@ -138,6 +138,19 @@ impl<const D: usize> Steps<D> {
         sim_box: &SimBox<D>,
     ) -> Result<Self, crate::Error> {
         potential.validate()?;
+        // The tables are per pair of the discs' species: a species beyond the potential's
+        // range would make them quadratically large (65 535 species, 34 GB).
+        if let Some((k, d)) = discs
+            .iter()
+            .enumerate()
+            .find(|(_, d)| d.species >= crate::state::MAX_POTENTIAL_SPECIES)
+        {
+            return Err(crate::Error::BadPotential(format!(
+                "disc {k} is of species {}: with a stepped potential species go from 0 to {}",
+                d.species,
+                crate::state::MAX_POTENTIAL_SPECIES - 1
+            )));
+        }
         let species = discs
             .iter()
             .map(|d| d.species as usize + 1)
