@@ -48,6 +48,6 @@ pub use simulation::{
     MAX_BARRIERS, OVERLAP_ROUNDING, OVERLAP_TOLERANCE,
 };
 pub use state::{
-    Barrier, Boundary, Colour, Demon, Disc, PairSteps, Potential, Reaction, Reactions, SimBox,
-    Step, System, MAX_REACTION_SPECIES, species_colour,
+    species_colour, Barrier, Boundary, Colour, Demon, Disc, PairSteps, Potential, Reaction,
+    Reactions, SimBox, Step, System, MAX_REACTION_SPECIES,
 };

@@ -119,7 +119,6 @@ pub struct Simulation<const D: usize = 2> {
     event_time: f64,
     /// Observation time, `>= event_time`.
     now: f64,
-    stats: Stats,
     adjusted: usize,
     /// Internal walls.
     barriers: Vec<Barrier>,
@@ -164,6 +163,8 @@ pub struct Simulation<const D: usize = 2> {
     /// The reaction rules, with the heat released and the reactions counted; `None`: every
     /// collision is elastic.
     chemistry: Option<Box<reactions::Chemistry>>,
+    /// Event counts (last: the fields above keep their places as counts are added).
+    stats: Stats,
 }
 
 /// The event queue for `n` discs in `D` dimensions. In 2D about two buckets per disc, as

@@ -193,7 +193,7 @@ impl<const D: usize> Simulation<D> {
 
     /// Resolves the collision of `i` and `j` under the reaction rules; returns the record and
     /// the discs to predict again.
-    #[inline(never)]
+    #[inline(always)]
     pub(super) fn collide_reactive(
         &mut self,
         i: usize,

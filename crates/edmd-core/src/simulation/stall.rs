@@ -244,9 +244,9 @@ impl<const D: usize> Simulation<D> {
         let mut discs = Vec::new();
         for _ in 0..STALL_SAMPLE {
             let e = if self.has_extras() {
-                self.step_inline::<true>(t_limit)
+                self.step_inline::<true, false>(t_limit)
             } else {
-                self.step_inline::<false>(t_limit)
+                self.step_inline::<false, false>(t_limit)
             };
             let Some(e) = e else {
                 return;
