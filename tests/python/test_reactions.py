@@ -580,3 +580,14 @@ def test_a_refused_set_reactions_keeps_the_rules_and_counts():
         sim.set_reactions(["0 + 1 -> 2 + 2 probability 2"])
     assert sim.reactions["seed"] == 3
     assert np.array_equal(sim.reaction_counts, counts)
+
+
+def test_states_without_a_place_for_the_rules_are_refused(tmp_path):
+    # GSD and XYZ states hold no reaction rules (as they hold no potential): writing one
+    # would lose them without a word, so it is refused, and nothing is written.
+    sim = pair(reactions=["0 + 1 -> 2 + 2"])
+    for kind in ("gsd", "xyz"):
+        out = tmp_path / f"state.{kind}"
+        with pytest.raises(ValueError, match="no place for the reaction rules"):
+            sim.write(str(out), format=kind)
+        assert not out.exists()

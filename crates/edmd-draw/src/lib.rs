@@ -61,7 +61,7 @@ pub enum Colouring {
     File,
     /// By speed, blue (slow) to red (fast), relative to the root mean square speed.
     Speed,
-    /// By species, from a fixed palette.
+    /// By species, in the colours reaction products take ([`edmd_core::species_colour`]).
     Species,
     /// By potential energy (stepped potentials): each disc's
     /// [`Simulation::potential_energy_of`] on a diverging scale centred on zero, grey for a disc
@@ -83,15 +83,6 @@ pub const BACKGROUND: [u8; 3] = [255, 255, 255];
 pub const OUTSIDE: [u8; 3] = [236, 236, 240];
 /// Colour of walls and barriers.
 pub const WALL: [u8; 3] = [40, 40, 40];
-
-pub(crate) const PALETTE: [[u8; 3]; 6] = [
-    [31, 119, 180],
-    [44, 160, 44],
-    [214, 39, 40],
-    [255, 127, 14],
-    [148, 103, 189],
-    [140, 86, 75],
-];
 
 /// A snapshot of what to draw.
 #[derive(Clone, Debug, Default)]
@@ -173,7 +164,7 @@ pub(crate) fn colours<const D: usize>(sim: &Simulation<D>, colouring: Colouring)
     match colouring {
         Colouring::File => (0..n).map(|i| sim.colour(i)).collect(),
         Colouring::Species => (0..n)
-            .map(|i| PALETTE[sim.species(i) as usize % PALETTE.len()])
+            .map(|i| edmd_core::species_colour(sim.species(i)))
             .collect(),
         Colouring::Speed => {
             let rms =
@@ -763,7 +754,11 @@ mod tests {
         assert_eq!(s.colours[0], speed_colour(0.0));
         assert_eq!(s.colours[1], speed_colour(1.0 / (2.0 * 0.5f64.sqrt())));
         let s = Scene::capture(&sim, Colouring::Species);
-        assert_eq!(s.colours, vec![PALETTE[1], PALETTE[2]]);
+        // The colours reaction products take, so both views agree.
+        assert_eq!(
+            s.colours,
+            vec![edmd_core::species_colour(1), edmd_core::species_colour(2)]
+        );
     }
 
     /// Regression: `--colour speed` drew mid-speed discs nearly white on the white background.

@@ -1447,6 +1447,17 @@ fn render(inner: &Inner, kind: &str, path: &Path) -> PyResult<Vec<u8>> {
     each!(inner, s => {
         let discs = s.sim.discs();
         match kind {
+            "gsd" | "xyz" if s.sim.is_stepped() || s.sim.reactions().is_some() => {
+                let what = if s.sim.is_stepped() {
+                    "the stepped potential"
+                } else {
+                    "the reaction rules"
+                };
+                return Err(value_error(format!(
+                    "{}: cannot write the state as {kind}: it has no place for {what} (write the Princeton format, or a checkpoint)",
+                    path.display()
+                )));
+            }
             "xyz" => edmd_io::xyz::write_frame(&mut w, &discs, s.sim.sim_box(), s.sim.time())
                 .map_err(io_error)?,
             "gsd" => {
