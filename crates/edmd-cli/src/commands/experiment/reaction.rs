@@ -25,10 +25,11 @@
 //! outlast blocks of one run, whose errors came out at two thirds of the runs' spread), or the
 //! counting error (binomial, Poisson for the rate constant) where that is larger: eight runs
 //! give only a rough spread.
-//! - `reactive_fraction`: reactive collisions over the collisions of an A with a B (the only
-//!   pairs the rule names; A-A and B-B collisions, half of all, can never react), against
-//!   `exp(-E*/kT)`. `reactive_fraction_all` divides by every collision instead, against
-//!   `2 x_A x_B exp(-E*/kT) = exp(-E*/kT) / 2`;
+//! - `reactive_fraction`: reactive collisions over all collisions, against `exp(-E*/kT)`.
+//!   Every pair of species has a rule with the same activation energy: `A + B -> B + A`, and
+//!   `A + A -> A + A` and `B + B -> B + B`, which change nothing but are counted, so that every
+//!   collision can react. `reactive_fraction_ab` is the first rule's over the collisions of an
+//!   A with a B, against the same law;
 //! - `rate_constant`: `edmd_core::measure::Kinetics`' `k`, reactions per unit volume and
 //!   time `= k n_A n_B`, against `line_of_centres_rate_constant`: Enskog's collision rate per
 //!   pair `omega / n` (with the contact value `g(sigma)` of Henderson's equation of state for
@@ -143,19 +144,20 @@ pub struct Row {
     pub runs: u64,
     /// Activation energy in units of kT.
     pub activation: f64,
-    /// Reactive collisions over the collisions of an A with a B, all runs together.
+    /// Reactive collisions over all collisions, all runs together (every pair of species has
+    /// a rule: `A + B -> B + A`, `A + A -> A + A`, `B + B -> B + B`).
     pub reactive_fraction: f64,
     /// Its statistical error (one standard deviation: the standard error of the runs' mean, or
     /// the binomial counting error where that is larger).
     pub reactive_fraction_error: f64,
     /// The line-of-centres law, `exp(-E*/kT)`.
     pub reactive_fraction_theory: f64,
-    /// Reactive collisions over all collisions.
-    pub reactive_fraction_all: f64,
+    /// Reactions of `A + B -> B + A` over the collisions of an A with a B.
+    pub reactive_fraction_ab: f64,
     /// Its statistical error.
-    pub reactive_fraction_all_error: f64,
-    /// `2 x_A x_B exp(-E*/kT)` (A-B collisions are half of all).
-    pub reactive_fraction_all_theory: f64,
+    pub reactive_fraction_ab_error: f64,
+    /// The line-of-centres law, `exp(-E*/kT)`.
+    pub reactive_fraction_ab_theory: f64,
     /// Rate constant `k` (reactions per unit volume and time over `n_A n_B`; diameter 1,
     /// mass 1, kT 1).
     pub rate_constant: f64,
@@ -171,7 +173,7 @@ pub struct Row {
     pub temperature_a_error: f64,
     /// Collisions of an A with a B measured over, all runs together.
     pub ab_collisions: u64,
-    /// Reactions counted.
+    /// Reactions of `A + B -> B + A` counted.
     pub reactions: u64,
     /// Simulated time measured over, all runs together.
     pub time: f64,
@@ -272,7 +274,7 @@ pub struct Summary {
     pub interrupted: bool,
 }
 
-const THEORY: &str = "A + B -> B + A with probability 1 and no heat in an equilibrium fluid at kT = 1: reactive_fraction (reactive collisions over A-B collisions) against the line-of-centres law exp(-E*/kT) (Present, Kinetic Theory of Gases (1958), section 8.2; exact in equilibrium in 2D and 3D at any density); reactive_fraction_all (over all collisions) against exp(-E*/kT)/2; rate_constant (reactions per unit volume and time over n_A n_B) against (omega/n) exp(-E*/kT) with Enskog's collision frequency omega (contact value: Henderson's equation of state for discs, Pieprzyk et al.'s for spheres)";
+const THEORY: &str = "A + B -> B + A with probability 1 and no heat in an equilibrium fluid at kT = 1: with A + A -> A + A and B + B -> B + B (which change nothing) so that every collision can react: reactive_fraction (reactive collisions over all collisions) against the line-of-centres law exp(-E*/kT) (Present, Kinetic Theory of Gases (1958), section 8.2; exact in equilibrium in 2D and 3D at any density); reactive_fraction_ab (reactions of A + B over A-B collisions) against the same; rate_constant (reactions per unit volume and time over n_A n_B) against (omega/n) exp(-E*/kT) with Enskog's collision frequency omega (contact value: Henderson's equation of state for discs, Pieprzyk et al.'s for spheres)";
 
 const PX_THEORY: &str = "A + A -> B + B with probability 1 and no heat in a closed box, all A at the start: the fraction of A-A collisions that react against its equilibrium value exp(-E*/kT) (Prigogine and Xhrouet, Physica 15, 913 (1949); Present, J. Chem. Phys. 31, 747 (1959): the rate falls below it as the reaction depletes the reactants' fast tail; Boltzmann-equation estimates up to some 40% for a few kT, Cukrowski, Fritzsche and Fort, Chem. Phys. Lett. 341, 585 (2001)) and against exp(-E*/kT_A) with the measured temperature of the A (the Shizgal-Karplus temperature estimate)";
 
@@ -423,15 +425,17 @@ fn check(args: &ReactionArgs, dims: &[usize]) -> Result<()> {
     Ok(())
 }
 
-/// Counts the collisions of one pair of species (in either order) and the reactions. With a
-/// single rule, every reaction is one of that pair's collisions; a non-reactive collision
-/// leaves the species as they were, so the simulation's species name its pair.
+/// Counts the collisions of one pair of species (in either order), all collisions, the
+/// reactions of the pair's rule (the first) and all reactions. A reaction of the first rule is
+/// one of that pair's collisions; a non-reactive collision leaves the species as they were, so
+/// the simulation's species name its pair.
 #[derive(Clone, Copy, Default)]
 struct PairCount {
     pair: (u16, u16),
     pair_collisions: u64,
     all_collisions: u64,
     reactions: u64,
+    all_reactions: u64,
 }
 
 impl PairCount {
@@ -454,10 +458,13 @@ impl<const D: usize> Observer<D> for PairCount {
                     self.pair_collisions += 1;
                 }
             }
-            EventKind::Reaction { .. } => {
+            EventKind::Reaction { rule, .. } => {
                 self.all_collisions += 1;
-                self.pair_collisions += 1;
-                self.reactions += 1;
+                self.all_reactions += 1;
+                if rule == 0 {
+                    self.pair_collisions += 1;
+                    self.reactions += 1;
+                }
             }
             _ => {}
         }
@@ -540,6 +547,22 @@ fn fluid<const D: usize>(
     Ok(Some((sim, kt)))
 }
 
+/// `A + B -> B + A`, and `A + A -> A + A` and `B + B -> B + B`, which change nothing but count
+/// as reactions: every collision can react, so reactions over all collisions follow the
+/// line-of-centres law, and the first rule's over A-B collisions too.
+fn every_pair(activation: f64) -> Reactions {
+    let same = |s: u16| Reaction {
+        reactants: (s, s),
+        products: (s, s),
+        activation,
+        probability: 1.0,
+        heat: 0.0,
+    };
+    let mut r = rule((0, 1), (1, 0), activation);
+    r.rules.extend([same(0), same(1)]);
+    r
+}
+
 fn rule(reactants: (u16, u16), products: (u16, u16), activation: f64) -> Reactions {
     Reactions::new(vec![Reaction {
         reactants,
@@ -580,7 +603,7 @@ fn equilibrium<const D: usize>(
         kts.push(kt);
         for (m, &a) in measured.iter_mut().zip(&args.activation) {
             let mut sim = base.clone();
-            sim.set_reactions(Some(rule((0, 1), (1, 0), a * kt)))
+            sim.set_reactions(Some(every_pair(a * kt)))
                 .or_else(|e| edmd::user_error(format!("reaction: {e}")))?;
             let mut kinetics = Kinetics::new(&sim);
             let mut count = PairCount::new((0, 1));
@@ -612,10 +635,11 @@ fn equilibrium<const D: usize>(
         .zip(&measured)
         .map(|(&a, runs)| {
             let sum = |f: fn(&Measured) -> u64| runs.iter().map(f).sum::<u64>();
-            let (reactions, pair, all) = (
+            let (reactions, pair, all, all_reactions) = (
                 sum(|m| m.count.reactions),
                 sum(|m| m.count.pair_collisions),
                 sum(|m| m.count.all_collisions),
+                sum(|m| m.count.all_reactions),
             );
             let each = |f: fn(&Measured) -> f64| runs.iter().map(f).collect::<Vec<f64>>();
             let exposure: f64 = runs.iter().map(|m| m.exposure).sum();
@@ -627,18 +651,18 @@ fn equilibrium<const D: usize>(
                 n: args.n,
                 runs: args.runs,
                 activation: a,
-                reactive_fraction: reactions as f64 / pair.max(1) as f64,
+                reactive_fraction: all_reactions as f64 / all.max(1) as f64,
                 reactive_fraction_error: block_error(&each(|m| {
+                    m.count.all_reactions as f64 / m.count.all_collisions.max(1) as f64
+                }))
+                .max(binomial_error(all_reactions, all)),
+                reactive_fraction_theory: theory,
+                reactive_fraction_ab: reactions as f64 / pair.max(1) as f64,
+                reactive_fraction_ab_error: block_error(&each(|m| {
                     m.count.reactions as f64 / m.count.pair_collisions.max(1) as f64
                 }))
                 .max(binomial_error(reactions, pair)),
-                reactive_fraction_theory: theory,
-                reactive_fraction_all: reactions as f64 / all.max(1) as f64,
-                reactive_fraction_all_error: block_error(&each(|m| {
-                    m.count.reactions as f64 / m.count.all_collisions.max(1) as f64
-                }))
-                .max(binomial_error(reactions, all)),
-                reactive_fraction_all_theory: 0.5 * theory,
+                reactive_fraction_ab_theory: theory,
                 rate_constant: reactions as f64 / exposure,
                 rate_constant_error: block_error(&each(|m| m.reactions_per_exposure))
                     .max(reactions as f64 / exposure / (reactions.max(1) as f64).sqrt()),
@@ -811,9 +835,9 @@ fn write_outputs(
             "reactive_fraction",
             "reactive_fraction_error",
             "reactive_fraction_theory",
-            "reactive_fraction_all",
-            "reactive_fraction_all_error",
-            "reactive_fraction_all_theory",
+            "reactive_fraction_ab",
+            "reactive_fraction_ab_error",
+            "reactive_fraction_ab_theory",
             "rate_constant",
             "rate_constant_error",
             "rate_constant_theory",
@@ -827,9 +851,9 @@ fn write_outputs(
                 r.reactive_fraction,
                 r.reactive_fraction_error,
                 r.reactive_fraction_theory,
-                r.reactive_fraction_all,
-                r.reactive_fraction_all_error,
-                r.reactive_fraction_all_theory,
+                r.reactive_fraction_ab,
+                r.reactive_fraction_ab_error,
+                r.reactive_fraction_ab_theory,
                 r.rate_constant,
                 r.rate_constant_error,
                 r.rate_constant_theory,
