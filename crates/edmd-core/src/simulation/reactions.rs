@@ -227,10 +227,9 @@ impl<const D: usize> Simulation<D> {
         };
         let reacts =
             dot < 0.0 && 0.5 * mu * vn2 >= rule.activation && u < rule.probability && after >= 0.0;
-        if !reacts {
-            return self.collide(i, j, t);
-        }
-        let impulse = if rule.heat == 0.0 {
+        // A pair that does not react collides elastically, with the impulse the elastic rule
+        // (which reactions require) gives, worked out here from the contact already computed.
+        let impulse = if !reacts || rule.heat == 0.0 {
             elastic::impulse(dr, dv, mi, mj)
         } else {
             // The normal relative velocity goes from `dot / |dr|` (< 0) to `+sqrt(after)`.
@@ -240,6 +239,15 @@ impl<const D: usize> Simulation<D> {
         self.body[j].vel = vj - impulse / mj;
         self.body[i].count = self.body[i].count.wrapping_add(1);
         self.body[j].count = self.body[j].count.wrapping_add(1);
+        self.stats.disc_disc = self.stats.disc_disc.wrapping_add(1);
+        if !reacts {
+            let record = EventRecord {
+                time: t,
+                kind: EventKind::DiscDisc { i, j },
+                impulse,
+            };
+            return (record, [i, j]);
+        }
         // Which disc becomes which product: the one of the rule's first species becomes its
         // first product; of like reactants, either, by the draw.
         let (ci, cj) = if rule.reactants.0 == rule.reactants.1 {
@@ -262,7 +270,6 @@ impl<const D: usize> Simulation<D> {
         }
         chem.heat += rule.heat;
         chem.count[k] += 1;
-        self.stats.disc_disc = self.stats.disc_disc.wrapping_add(1);
         self.stats.reaction = self.stats.reaction.wrapping_add(1);
         let record = EventRecord {
             time: t,
