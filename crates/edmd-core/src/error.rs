@@ -108,6 +108,11 @@ pub enum Error {
     /// with what they do not go with.
     #[error("reaction {0}")]
     BadReaction(String),
+    /// Restitution that cannot be: a coefficient outside `[0, 1]`, a law's speed not
+    /// positive, a negative or non-finite TC time, a pair named twice, or restitution with
+    /// what it does not go with.
+    #[error("restitution: {0}")]
+    BadRestitution(String),
     /// A time beyond what the clock resolves for these discs (see
     /// [`crate::Simulation::clock_limit`]).
     #[error(

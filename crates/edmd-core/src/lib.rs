@@ -49,5 +49,5 @@ pub use simulation::{
 };
 pub use state::{
     species_colour, Barrier, Boundary, Colour, Demon, Disc, PairSteps, Potential, Reaction,
-    Reactions, SimBox, Step, System, MAX_REACTION_SPECIES,
+    Reactions, Restitution, RestitutionLaw, SimBox, Step, System, MAX_REACTION_SPECIES,
 };

@@ -38,6 +38,7 @@ impl CourseSystem {
             time: 0.0,
             potential: Default::default(),
             reactions: Vec::new(),
+            restitution: None,
         }
     }
 }

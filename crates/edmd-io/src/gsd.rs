@@ -1193,6 +1193,7 @@ fn build<const D: usize>(
         time,
         potential: Default::default(),
         reactions: Vec::new(),
+        restitution: None,
     };
     (system, images)
 }

@@ -19,12 +19,13 @@ pub mod course;
 pub mod gsd;
 pub mod princeton;
 pub mod reaction;
+pub mod restitution;
 mod text;
 pub mod xyz;
 
 pub use text::ParseError;
 
-use edmd_core::{Barrier, Disc, Potential, Reaction, SimBox};
+use edmd_core::{Barrier, Disc, Potential, Reaction, Restitution, SimBox};
 
 /// A system read from a file, with the line each disc came from (`D = 3` for spheres).
 #[derive(Clone, Debug, PartialEq)]
@@ -47,16 +48,21 @@ pub struct LoadedSystem<const D: usize = 2> {
     /// The reaction rules (`# edmd reaction`, in file order; none: collisions never react).
     /// Only the Princeton format holds them.
     pub reactions: Vec<Reaction>,
+    /// The restitution (`# edmd restitution`; none: collisions are elastic). Only the
+    /// Princeton format holds it.
+    pub restitution: Option<Restitution>,
 }
 
 /// How particles interact besides their hard cores, as the Princeton format's directives say
-/// it: the stepped potential and the reaction rules.
+/// it: the stepped potential, the reaction rules and the restitution.
 #[derive(Clone, Copy, Debug)]
 pub struct Interactions<'a> {
     /// The stepped pair potential (no pairs: hard cores).
     pub potential: &'a Potential,
     /// The reaction rules (none: collisions never react).
     pub reactions: &'a [Reaction],
+    /// The restitution (none: collisions are elastic).
+    pub restitution: Option<&'a Restitution>,
 }
 
 /// Hard cores with no steps, for [`Interactions::HARD`].
@@ -67,11 +73,12 @@ impl Interactions<'_> {
     pub const HARD: Interactions<'static> = Interactions {
         potential: &NO_STEPS,
         reactions: &[],
+        restitution: None,
     };
 
     /// Whether there is nothing besides hard cores.
     pub fn is_hard(&self) -> bool {
-        self.potential.is_hard() && self.reactions.is_empty()
+        self.potential.is_hard() && self.reactions.is_empty() && self.restitution.is_none()
     }
 }
 
@@ -182,6 +189,7 @@ pub fn write_with<const D: usize>(
     let interactions = Interactions {
         potential,
         reactions: &[],
+        restitution: None,
     };
     write_full(out, discs, sim_box, barriers, interactions, format, time)
 }
@@ -208,6 +216,12 @@ pub fn write_full<const D: usize>(
         return Err(std::io::Error::new(
             std::io::ErrorKind::InvalidInput,
             "the course format has no place for reaction rules",
+        ));
+    }
+    if format == Format::Course && interactions.restitution.is_some() {
+        return Err(std::io::Error::new(
+            std::io::ErrorKind::InvalidInput,
+            "the course format has no place for restitution",
         ));
     }
     match format {

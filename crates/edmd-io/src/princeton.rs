@@ -25,6 +25,11 @@
 //!     at distances `R1 < R2 < ...`, where the pair's energy changes by `Ek` as it moves inward
 //!     across `Rk` (`# edmd potential 0 0 1.5 -1` is a square well of depth 1 out to 1.5, `1.5
 //!     1` a shoulder of height 1); one line per pair of species;
+//!   - `# edmd restitution ...`: inelastic collisions (see `edmd_core::Restitution` and
+//!     [`crate::restitution`] for the grammar): `E` or `bridges VC` for every pair of species,
+//!     `A B E` or `A B bridges VC` for one pair, `walls E` for the walls, `tc T` for the TC
+//!     model's time; one line for each, and they do not go with a stepped potential or
+//!     reaction rules;
 //!   - `# edmd reaction A + B -> C + D [activation E] [probability P] [heat Q]`: a reaction
 //!     rule (see `edmd_core::Reaction` and [`crate::reaction`] for the grammar): a disc of
 //!     species `A` colliding with one of `B` with at least `E` of kinetic energy in their
@@ -42,7 +47,8 @@
 //!   barriers are 2D only. `# edmd dim 2` is allowed and changes nothing.
 
 use edmd_core::{
-    Barrier, Boundary, Demon, Disc, PairSteps, Potential, Reaction, SimBox, Step, Vector,
+    Barrier, Boundary, Demon, Disc, PairSteps, Potential, Reaction, Restitution, SimBox, Step,
+    Vector,
 };
 
 use crate::text::{count, err, exact, expect_end, number, Lines};
@@ -235,6 +241,19 @@ pub fn parse_in<const D: usize>(
         }
     }
     check_reactions(&d.reactions, &d.potential, &discs, d.time)?;
+    if let Some((line, _)) = d.restitution {
+        let other = match (d.potential.first(), d.reactions.first()) {
+            (Some((first, _)), _) => Some(("a stepped potential", first)),
+            (_, Some((first, _))) => Some(("reaction rules", first)),
+            _ => None,
+        };
+        if let Some((what, first)) = other {
+            return Err(err(
+                line,
+                format!("restitution does not go with {what} (line {first})"),
+            ));
+        }
+    }
     Ok(LoadedSystem {
         discs,
         sim_box: d.sim_box,
@@ -246,6 +265,7 @@ pub fn parse_in<const D: usize>(
             pairs: d.potential.into_iter().map(|(_, p)| p).collect(),
         },
         reactions: d.reactions.into_iter().map(|(_, r)| r).collect(),
+        restitution: d.restitution.map(|(_, r)| r),
     })
 }
 
@@ -267,6 +287,8 @@ struct Directives<const D: usize> {
     time: f64,
     potential: Vec<(usize, PairSteps)>,
     reactions: Vec<(usize, Reaction)>,
+    /// The restitution, with the line of its first directive.
+    restitution: Option<(usize, Restitution)>,
 }
 
 /// Interprets the `# edmd` directives.
@@ -274,6 +296,8 @@ fn directives<const D: usize>(list: &[(usize, Vec<&str>)]) -> Result<Directives<
     let mut sim_box = SimBox::<D>::walls([1.0; D]);
     let mut potential: Vec<(usize, PairSteps)> = Vec::new();
     let mut reactions: Vec<(usize, Reaction)> = Vec::new();
+    let mut restitution: Option<(usize, Restitution)> = None;
+    let mut parts: Vec<(usize, crate::restitution::Part)> = Vec::new();
     let mut barriers = Vec::new();
     let mut time = 0.0;
     let mut seen_time: Option<usize> = None;
@@ -362,6 +386,21 @@ fn directives<const D: usize>(list: &[(usize, Vec<&str>)]) -> Result<Directives<
                 }
                 reactions.push((line, r));
             }
+            Some("restitution") => {
+                let (_, r) = restitution.get_or_insert_with(|| (line, Restitution::default()));
+                let part = crate::restitution::parse(&w[1..], r)
+                    .map_err(|e| err(line, format!("restitution: {e}")))?;
+                if let Some((first, _)) = parts.iter().find(|(_, q)| q.same(part)) {
+                    return Err(err(
+                        line,
+                        format!(
+                            "a second restitution for {} (the first is line {first}); give it once",
+                            part.name()
+                        ),
+                    ));
+                }
+                parts.push((line, part));
+            }
             Some("barrier") if D != 2 => return Err(err(line, "barriers exist in 2D files only")),
             Some("barrier") => barriers.push(barrier(line, &w[1..])?),
             // Read before the discs by `declared_dim`.
@@ -369,7 +408,7 @@ fn directives<const D: usize>(list: &[(usize, Vec<&str>)]) -> Result<Directives<
             Some(other) => {
                 return Err(err(
                     line,
-                    format!("unknown edmd directive '{other}' (dim, box, boundary, barrier, time, potential, reaction)"),
+                    format!("unknown edmd directive '{other}' (dim, box, boundary, barrier, time, potential, reaction, restitution)"),
                 ))
             }
             None => return Err(err(line, "empty edmd directive")),
@@ -381,6 +420,7 @@ fn directives<const D: usize>(list: &[(usize, Vec<&str>)]) -> Result<Directives<
         time,
         potential,
         reactions,
+        restitution,
     })
 }
 
@@ -572,14 +612,15 @@ pub fn write_with<const D: usize>(
         Interactions {
             potential,
             reactions: &[],
+            restitution: None,
         },
         order,
         time,
     )
 }
 
-/// [`write`] with the stepped potential and the reaction rules, written as `# edmd potential`
-/// and `# edmd reaction` lines.
+/// [`write`] with the stepped potential, the reaction rules and the restitution, written as
+/// `# edmd potential`, `# edmd reaction` and `# edmd restitution` lines.
 pub fn write_full<const D: usize>(
     out: &mut impl std::io::Write,
     discs: &[Disc<D>],
@@ -642,6 +683,13 @@ pub fn write_full<const D: usize>(
     }
     for r in interactions.reactions {
         writeln!(out, "# edmd reaction {}", crate::reaction::text(r))?;
+    }
+    for l in interactions
+        .restitution
+        .map(crate::restitution::lines)
+        .unwrap_or_default()
+    {
+        writeln!(out, "# edmd restitution {l}")?;
     }
     let with_species = discs.iter().any(|d| d.species != 0);
     for d in discs {
@@ -739,6 +787,7 @@ mod tests {
         let interactions = Interactions {
             potential: &s.potential,
             reactions: &s.reactions,
+            restitution: s.restitution.as_ref(),
         };
         write_full(
             &mut out,
@@ -1170,6 +1219,63 @@ mod tests {
             let e = parse_in::<3>(text, ColumnOrder::RadiusMass).unwrap_err();
             assert_eq!(e.line, *line, "{text:?}: {e}");
             assert!(e.message.contains(words), "{text:?}: {e}");
+        }
+    }
+
+    /// `# edmd restitution` lines are gathered into one restitution, written back as given,
+    /// each part at most once, and refused beside a potential or rules.
+    #[test]
+    fn restitution_is_read_and_written_back() {
+        let text = "1\n# edmd box 4 4\n# edmd restitution 0.9\n# edmd restitution walls 0.5\n# edmd restitution 0 0 bridges 0.1\n# edmd restitution tc 1e-4\n1 1 0 0 .5 1 0 0 0\n";
+        let s = parse(text, ColumnOrder::default()).unwrap();
+        let r = s.restitution.clone().unwrap();
+        assert_eq!(r.all, edmd_core::RestitutionLaw::Constant(0.9));
+        assert_eq!((r.wall, r.tc), (0.5, 1e-4));
+        let mut out = Vec::new();
+        let interactions = Interactions {
+            potential: &s.potential,
+            reactions: &s.reactions,
+            restitution: s.restitution.as_ref(),
+        };
+        write_full(
+            &mut out,
+            &s.discs,
+            &s.sim_box,
+            &[],
+            interactions,
+            ColumnOrder::default(),
+            0.0,
+        )
+        .unwrap();
+        let back = parse(std::str::from_utf8(&out).unwrap(), ColumnOrder::default()).unwrap();
+        assert_eq!(back.restitution, s.restitution);
+        for (bad, want) in [
+            (
+                "# edmd restitution 0.9\n# edmd restitution 0.8\n",
+                "line 3: a second restitution for every pair (the first is line 2)",
+            ),
+            (
+                "# edmd restitution 0 1 0.9\n# edmd restitution 1 0 0.8\n",
+                "line 3: a second restitution for species 1 and 0",
+            ),
+            (
+                "# edmd restitution 2\n",
+                "line 2: restitution: the coefficient must be in [0, 1], found 2",
+            ),
+            (
+                "# edmd restitution 0.9\n# edmd potential 0 0 1.5 -1\n",
+                "line 2: restitution does not go with a stepped potential (line 3)",
+            ),
+            (
+                "# edmd restitution 0.9\n# edmd reaction 0 + 0 -> 1 + 1\n",
+                "line 2: restitution does not go with reaction rules (line 3)",
+            ),
+        ] {
+            let text = format!("1\n{bad}.5 .5 0 0 .1 1 0 0 0\n");
+            let e = parse(&text, ColumnOrder::default())
+                .unwrap_err()
+                .to_string();
+            assert!(e.contains(want), "{e}");
         }
     }
 }

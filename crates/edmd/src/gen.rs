@@ -29,6 +29,54 @@ pub struct GenCommand {
     /// Species and reaction rules.
     #[command(flatten)]
     pub chemistry: ChemistryArgs,
+    /// Inelastic collisions, as '# edmd restitution' lines: each a line's words ('0.9',
+    /// 'bridges 0.01', '0 1 0.5', 'walls 0.8', 'tc 1e-4'), repeated for more.
+    #[arg(long, value_name = "RESTITUTION", allow_hyphen_values = true)]
+    pub restitution: Vec<String>,
+}
+
+/// The restitution of `--restitution` lines (none without any): each read as a
+/// `# edmd restitution` line, every part given at most once, and checked beside the other
+/// options (not with the course format, a potential or reaction rules).
+pub fn restitution_of(
+    args: &GenArgs,
+    chemistry: &ChemistryArgs,
+    given: &[String],
+) -> Result<Option<edmd_core::Restitution>> {
+    let name = &args.kind;
+    if given.is_empty() {
+        return Ok(None);
+    }
+    if args.course {
+        return user_error(format!(
+            "gen {name}: the course format has no place for restitution (--course with --restitution)"
+        ));
+    }
+    if args.well.is_some() || args.shoulder.is_some() {
+        return user_error(format!(
+            "gen {name}: --restitution does not go with --well or --shoulder"
+        ));
+    }
+    if !chemistry.reaction.is_empty() {
+        return user_error(format!(
+            "gen {name}: --restitution does not go with --reaction"
+        ));
+    }
+    let mut r = edmd_core::Restitution::default();
+    let mut parts: Vec<edmd_io::restitution::Part> = Vec::new();
+    for text in given {
+        let words: Vec<&str> = text.split_whitespace().collect();
+        let part = edmd_io::restitution::parse(&words, &mut r)
+            .or_else(|e| user_error(format!("gen {name}: --restitution '{text}': {e}")))?;
+        if parts.iter().any(|q| q.same(part)) {
+            return user_error(format!(
+                "gen {name}: --restitution '{text}': a second restitution for {}; give it once",
+                part.name()
+            ));
+        }
+        parts.push(part);
+    }
+    Ok(Some(r))
 }
 
 /// Options of `edmd gen` for reactive systems: species in given proportions, and reaction
@@ -191,11 +239,13 @@ pub enum Generated {
 pub fn run(cmd: &GenCommand) -> Result<()> {
     let args = &cmd.args;
     crate::output::check_file_destinations(&[("--output", Path::new(&args.output))])?;
+    let restitution = restitution_of(args, &cmd.chemistry, &cmd.restitution)?;
     let (generated, rules) = make_with(args, &cmd.chemistry)?;
     let potential = args.potential_of(&generated)?;
     let interactions = Interactions {
         potential: &potential,
         reactions: &rules,
+        restitution: restitution.as_ref(),
     };
     match generated {
         Generated::Two(system, format) => write_system(&system, interactions, format, args),

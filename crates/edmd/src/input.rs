@@ -222,6 +222,7 @@ pub fn build_seeded<const D: usize>(
 ) -> Result<Simulation<D>> {
     let mut sim = build_hard(path, sys, options, true)?;
     set_reactions(path, sys, &mut sim, seed)?;
+    set_restitution(path, sys, &mut sim)?;
     Ok(sim)
 }
 
@@ -235,6 +236,7 @@ pub fn build_with_hint<const D: usize>(
 ) -> Result<Simulation<D>> {
     let mut sim = build_hard(path, sys, options, allow_overlaps_option)?;
     set_reactions(path, sys, &mut sim, DEFAULT_SEED)?;
+    set_restitution(path, sys, &mut sim)?;
     Ok(sim)
 }
 
@@ -260,6 +262,24 @@ pub fn set_reactions<const D: usize>(
     reactions.fill_colours(sys.discs.iter().map(|d| (d.species, d.colour)));
     sim.set_reactions(Some(reactions))
         .or_else(|e| user_error(format!("{path}: {e} (the file's '# edmd reaction' lines)")))
+}
+
+/// Makes the collisions of `sim`, built from `sys`, inelastic under the file's restitution
+/// (nothing without it). Restitution with the swap rule or multi-disc collisions is refused in
+/// one line naming the file.
+pub fn set_restitution<const D: usize>(
+    path: &str,
+    sys: &LoadedSystem<D>,
+    sim: &mut Simulation<D>,
+) -> Result<()> {
+    if sys.restitution.is_none() {
+        return Ok(());
+    }
+    sim.set_restitution(sys.restitution.clone()).or_else(|e| {
+        user_error(format!(
+            "{path}: {e} (the file's '# edmd restitution' lines)"
+        ))
+    })
 }
 
 /// The simulation of the discs, box, barriers and potential of `sys`, without its reactions.

@@ -51,7 +51,8 @@ pub struct Summary {
     /// Disc-disc collisions per second of wall-clock time.
     pub collisions_per_second: f64,
     /// `(E_end - E_start) / E_start` of the energy (kinetic, plus potential under a stepped
-    /// potential, less the heat released by reactions).
+    /// potential, less the heat released by reactions, plus the energy lost in inelastic
+    /// collisions).
     pub relative_energy_change: f64,
     /// Under a stepped potential: events at its steps (crossings and bounces).
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -71,6 +72,10 @@ pub struct Summary {
     /// negative: taken from it).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub reaction_heat: Option<f64>,
+    /// With restitution: the kinetic energy lost in inelastic collisions so far (from the
+    /// run's start, a checkpoint's included).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub dissipated: Option<f64>,
     /// Discs moved into the box by `--allow-overlaps`.
     pub discs_moved_into_box: usize,
     /// Trajectory frames written.
@@ -372,8 +377,9 @@ fn execute<const D: usize>(
 
     // Reactions turn heat into kinetic energy: what they released is taken off, so that the
     // change is the integration's alone.
-    let energy =
-        |sim: &Simulation<D>| sim.kinetic_energy() + sim.potential_energy() - sim.reaction_heat();
+    let energy = |sim: &Simulation<D>| {
+        sim.kinetic_energy() + sim.potential_energy() - sim.reaction_heat() + sim.dissipated()
+    };
     let e0 = energy(&sim);
     crate::commands::experiment::common::install_ctrlc();
     let progress = progress_bar(args.until);
@@ -498,6 +504,7 @@ fn execute<const D: usize>(
                 .collect()
         }),
         reaction_heat: sim.reactions().map(|_| sim.reaction_heat()),
+        dissipated: sim.restitution().map(|_| sim.dissipated()),
         discs_moved_into_box: sim.adjusted_discs(),
         frames,
     };
@@ -510,6 +517,7 @@ fn execute<const D: usize>(
     let interactions = edmd_io::Interactions {
         potential: sim.potential().unwrap_or(hard.potential),
         reactions: sim.reactions().map_or(hard.reactions, |r| &r.rules),
+        restitution: sim.restitution(),
     };
     let write_state = |mut w: &mut dyn Write| {
         edmd_io::write_full(
@@ -778,6 +786,9 @@ fn human(s: &Summary) -> String {
             .map(|r| format!("{} by {}", r.reactions, r.rule))
             .collect();
         t += &format!("\nreactions: {}; heat released {heat}", each.join(", "));
+    }
+    if let Some(lost) = s.dissipated {
+        t += &format!("\ninelastic collisions: {lost} of kinetic energy lost");
     }
     if s.discs_moved_into_box > 0 {
         t += &format!(

@@ -315,3 +315,26 @@ mod stepped_tests {
         assert!((stepped_b2(3, 1.0, &[], 1.0) - 2.0 * std::f64::consts::PI / 3.0).abs() < 1e-15);
     }
 }
+
+/// Haff's time `t0` of a granular gas cooling homogeneously, `T(t) = T0 / (1 + t/t0)^2`
+/// (Haff, J. Fluid Mech. 134, 401 (1983)), for smooth discs (`dim` 2) or spheres (3) with a
+/// constant coefficient of normal restitution `e`, at collision frequency `omega0` per
+/// particle at `T0`: `t0 = 2 dim / ((1 - e^2) omega0)` (infinite for `e = 1`).
+///
+/// A collision loses `(1 - e^2) mu v_n^2 / 2` of kinetic energy, and over a Maxwellian's
+/// collisions `mu v_n^2 / 2` averages `kT` in any dimension (`v_n` distributed as
+/// `v_n exp(-mu v_n^2 / 2kT)`, as in [`line_of_centres_fraction`]). With `N omega / 2`
+/// collisions per unit time and `dim N kT / 2` of kinetic energy,
+/// `dT/dt = -(1 - e^2) omega T / dim`, and `omega` grows as `sqrt(T)`: integrating gives
+/// Haff's law with this `t0` (Brilliantov and Poeschel, *Kinetic Theory of Granular Gases*
+/// (2004), chapter 7, whose cooling coefficient is this one when the velocities stay
+/// Maxwellian, to their Sonine correction `a2`, a few per cent at `e >= 0.8`).
+pub fn haff_time(dim: usize, e: f64, omega0: f64) -> f64 {
+    2.0 * dim as f64 / ((1.0 - e * e) * omega0)
+}
+
+/// Haff's law: the temperature at `t` of a gas at `kt0` at time 0 whose Haff time is `t0`
+/// ([`haff_time`]).
+pub fn haff_temperature(t: f64, kt0: f64, t0: f64) -> f64 {
+    kt0 / ((1.0 + t / t0) * (1.0 + t / t0))
+}

@@ -130,7 +130,7 @@ impl<const D: usize> Simulation<D> {
         // predictions are the hard cores': the extras' copy cost 12% more per collision in 2D
         // at N = 10^4).
         let extras = self.steps.is_some() || self.bath.is_some();
-        let react = !extras && self.chemistry.is_some();
+        let react = !extras && self.has_rule();
         #[cfg(target_arch = "x86_64")]
         if self.v3 {
             // SAFETY: `run_loop_v3` only needs the processor features, and `v3` is only set
@@ -172,7 +172,8 @@ impl<const D: usize> Simulation<D> {
     }
 
     /// The event loop, for hard cores alone, or (`EXTRAS`) with a stepped potential, a
-    /// thermostat or reaction rules, or (`REACT`) with reaction rules alone.
+    /// thermostat, reaction rules or restitution, or (`REACT`) with reaction rules or
+    /// restitution alone.
     #[inline(always)]
     pub(super) fn run_loop_inline<O: Observer<D>, const EXTRAS: bool, const REACT: bool>(
         &mut self,
@@ -210,11 +211,18 @@ impl<const D: usize> Simulation<D> {
         n
     }
 
-    /// Whether the loop must run its copy with steps, redraws and reactions (the one-event
-    /// paths; `run_chunk` gives reactions alone a copy of their own).
+    /// Whether the loop must run its copy with steps, redraws, reactions and restitution (the
+    /// one-event paths; `run_chunk` gives reactions or restitution alone a copy of their own).
     #[inline(always)]
     pub(super) fn has_extras(&self) -> bool {
-        self.steps.is_some() || self.bath.is_some() || self.chemistry.is_some()
+        self.steps.is_some() || self.bath.is_some() || self.has_rule()
+    }
+
+    /// Whether collisions follow a rule other than the hard cores' elastic one: reactions or
+    /// restitution.
+    #[inline(always)]
+    pub(super) fn has_rule(&self) -> bool {
+        self.chemistry.is_some() || self.dissipation.is_some()
     }
 
     /// Chooses the portable event loop (`true`) even where the processor runs the faster
@@ -277,10 +285,20 @@ impl<const D: usize> Simulation<D> {
                 Pending::Disc { partner, .. } if EXTRAS && self.steps.is_some() => {
                     self.collide_stepped(i, partner as usize, t)
                 }
-                Pending::Disc { partner, .. } if REACT || (EXTRAS && self.chemistry.is_some()) => {
-                    self.collide_reactive(i, partner as usize, t)
+                Pending::Disc { partner, .. } if (REACT || EXTRAS) && self.has_rule() => {
+                    if self.dissipation.is_some() {
+                        self.collide_inelastic(i, partner as usize, t)
+                    } else {
+                        self.collide_reactive(i, partner as usize, t)
+                    }
                 }
                 Pending::Disc { partner, .. } => self.collide(i, partner as usize, t),
+                Pending::Wall { axis, side } if (REACT || EXTRAS) && self.dissipation.is_some() => {
+                    (
+                        self.bounce_inelastic(i, axis as usize, side, t),
+                        [i, NO_DISC],
+                    )
+                }
                 Pending::Wall { axis, side } => {
                     (self.bounce(i, axis as usize, side, t), [i, NO_DISC])
                 }

@@ -36,6 +36,7 @@ mod event_loop;
 mod options;
 mod persist;
 mod predict;
+mod inelastic;
 mod reactions;
 #[cfg(target_arch = "x86_64")]
 mod scan_x86;
@@ -163,6 +164,9 @@ pub struct Simulation<const D: usize = 2> {
     /// The reaction rules, with the heat released and the reactions counted; `None`: every
     /// collision is elastic.
     chemistry: Option<Box<reactions::Chemistry>>,
+    /// The restitution, with the energy lost and the TC model's clock; `None`: collisions
+    /// are elastic.
+    dissipation: Option<Box<inelastic::Dissipation>>,
     /// Event counts (last: the fields above keep their places as counts are added).
     stats: Stats,
 }
@@ -398,6 +402,7 @@ impl<const D: usize> Simulation<D> {
             steps,
             bath: None,
             chemistry: None,
+            dissipation: None,
         };
         sim.check_clock(t0)?;
         sim.set_portable_loop(false);
@@ -684,6 +689,7 @@ impl<const D: usize> Simulation<D> {
             + self.grid.memory_bytes()
             + self.steps.as_ref().map_or(0, |s| s.memory_bytes())
             + self.chemistry.as_ref().map_or(0, |c| c.memory_bytes())
+            + self.dissipation.as_ref().map_or(0, |d| d.memory_bytes())
     }
 }
 

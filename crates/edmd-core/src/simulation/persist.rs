@@ -22,7 +22,7 @@ use crate::events::{Pending, Side};
 use crate::math::Vector;
 use crate::resolve::CollisionRule;
 use crate::schedule::EventQueue;
-use crate::state::{Barrier, Boundary, Demon, Disc, SimBox};
+use crate::state::{Barrier, Boundary, Demon, Disc, Restitution, RestitutionLaw, SimBox};
 
 use super::{Body, MultiContact, Simulation, Stall, StallCause, Stats};
 
@@ -31,8 +31,8 @@ use crate::frame::{self, Reader, Writer};
 /// The first bytes of every checkpoint.
 pub const MAGIC: &[u8; 8] = frame::RUN.magic;
 
-/// The checkpoint format this build writes. It reads this one, version 5 (which had no
-/// reaction rules), version 4 (whose stepped
+/// The checkpoint format this build writes. It reads this one, version 6 (which had no
+/// restitution), version 5 (which had no reaction rules), version 4 (whose stepped
 /// potentials kept their discs' cells by position, with no neighbour lists: such a run
 /// continues with its discs at the last event time and their lists made there, every event
 /// predicted afresh, which is a faithful continuation but not the bits a version-4 build would
@@ -368,6 +368,39 @@ impl<const D: usize> Simulation<D> {
                     w.u32(u32::from(s));
                     for x in colour {
                         w.u8(x);
+                    }
+                }
+            }
+        }
+        // The restitution, the energy lost and the TC model's clock (format 7).
+        match &self.dissipation {
+            None => w.u8(0),
+            Some(d) => {
+                w.u8(1);
+                let law = |w: &mut Writer, law: RestitutionLaw| match law {
+                    RestitutionLaw::Constant(e) => {
+                        w.u8(0);
+                        w.f64(e);
+                    }
+                    RestitutionLaw::Bridges { v_c } => {
+                        w.u8(1);
+                        w.f64(v_c);
+                    }
+                };
+                let r = &d.restitution;
+                law(&mut w, r.all);
+                w.len(r.pairs.len());
+                for &(a, b, l) in &r.pairs {
+                    w.u32(u32::from(a));
+                    w.u32(u32::from(b));
+                    law(&mut w, l);
+                }
+                w.f64(r.wall);
+                w.f64(r.tc);
+                w.f64(d.lost);
+                if r.tc > 0.0 {
+                    for &t in &d.last {
+                        w.f64(t);
                     }
                 }
             }
@@ -778,6 +811,47 @@ impl<const D: usize> Simulation<D> {
             chem.count = counts;
             chemistry = Some(Box::new(chem));
         }
+        let mut dissipation = None;
+        if version >= 7 && r.flag("restitution")? {
+            let law = |r: &mut Reader| -> Result<RestitutionLaw, Error> {
+                match r.u8()? {
+                    0 => Ok(RestitutionLaw::Constant(r.f64()?)),
+                    1 => Ok(RestitutionLaw::Bridges { v_c: r.f64()? }),
+                    k => bad(format!("restitution law {k}")),
+                }
+            };
+            let all = law(&mut r)?;
+            let np = r.len(4 + 4 + 1 + 8)?;
+            let mut pairs = Vec::with_capacity(np);
+            for _ in 0..np {
+                let species_of =
+                    |x: u32| u16::try_from(x).or_else(|_| bad(format!("restitution species {x}")));
+                let a = species_of(r.u32()?)?;
+                let b = species_of(r.u32()?)?;
+                pairs.push((a, b, law(&mut r)?));
+            }
+            let restitution = Restitution {
+                all,
+                pairs,
+                wall: r.f64()?,
+                tc: r.f64()?,
+            };
+            let lost = r.f64()?;
+            if !(lost.is_finite() && lost >= 0.0) {
+                return bad(format!("energy lost to restitution {lost}"));
+            }
+            let mut d = super::inelastic::Dissipation::new(restitution, n)
+                .or_else(|e| bad(e.to_string()))?;
+            d.lost = lost;
+            for i in 0..d.last.len() {
+                let t = r.f64()?;
+                if t.is_nan() || t > event_time {
+                    return bad(format!("disc {i}: last collision at t = {t}"));
+                }
+                d.last[i] = t;
+            }
+            dissipation = Some(Box::new(d));
+        }
         let extra = r.bytes()?.to_vec();
         if !r.at_end() {
             return bad("bytes after the end of the state");
@@ -836,9 +910,13 @@ impl<const D: usize> Simulation<D> {
             steps,
             bath,
             chemistry,
+            dissipation,
         };
         if sim.chemistry.is_some() {
             sim.reactions_fit().or_else(|e| bad(e.to_string()))?;
+        }
+        if sim.dissipation.is_some() {
+            sim.restitution_fits().or_else(|e| bad(e.to_string()))?;
         }
         sim.stats.reaction = reactions_so_far;
         sim.stats.step = step_events;
@@ -850,12 +928,13 @@ impl<const D: usize> Simulation<D> {
         // is not the discs' would move the demon's thresholds and, far too large, keep the stall
         // watcher from seeing a creeping clock.
         // (Under a stepped potential kinetic energy is exchanged with the steps', under a
-        // thermostat with the bath, and with reactions that release heat with the reactants,
-        // so only its finiteness is checked then.)
+        // thermostat with the bath, with reactions that release heat with the reactants, and
+        // inelastic collisions lose it, so only its finiteness is checked then.)
         let now_mv2 = sim.mean_mv2_now();
         let stepped = sim.steps.is_some()
             || sim.bath.is_some()
-            || sim.chemistry.as_ref().is_some_and(|c| c.heat != 0.0);
+            || sim.chemistry.as_ref().is_some_and(|c| c.heat != 0.0)
+            || sim.dissipation.as_ref().is_some_and(|d| d.lost != 0.0);
         if !(mean_mv2.is_finite() && (stepped || (mean_mv2 - now_mv2).abs() <= 1e-6 * now_mv2)) {
             return bad(format!(
                 "mean m v^2 {mean_mv2}, where the discs' kinetic energy gives {now_mv2}"

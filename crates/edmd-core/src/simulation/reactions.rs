@@ -164,6 +164,11 @@ impl<const D: usize> Simulation<D> {
                     .into(),
             ));
         }
+        if self.dissipation.is_some() {
+            return Err(Error::BadReaction(
+                "rules do not go with inelastic collisions".into(),
+            ));
+        }
         if self.multi.is_some() {
             return Err(Error::BadReaction(
                 "rules do not go with multi-disc collisions".into(),

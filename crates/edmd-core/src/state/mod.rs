@@ -4,12 +4,14 @@ pub mod barrier;
 pub mod disc;
 pub mod potential;
 pub mod reaction;
+pub mod restitution;
 pub mod sim_box;
 
 pub use barrier::{Barrier, Demon};
 pub use disc::{Colour, Disc};
 pub use potential::{PairSteps, Potential, Step, MAX_POTENTIAL_SPECIES, MAX_STEPS};
 pub use reaction::{species_colour, Reaction, Reactions, MAX_REACTION_SPECIES};
+pub use restitution::{Restitution, RestitutionLaw, BRIDGES_EXPONENT, MAX_RESTITUTION_SPECIES};
 pub use sim_box::{Boundary, SimBox};
 
 /// A complete system description: discs, the box, and any internal barriers.
