@@ -15,6 +15,7 @@ fn round_trip<const D: usize>(sys: &LoadedSystem<D>, order: ColumnOrder, text: &
     let interactions = Interactions {
         potential: &sys.potential,
         reactions: &sys.reactions,
+        restitution: sys.restitution.as_ref(),
     };
     princeton::write_full(
         &mut out,
@@ -34,6 +35,7 @@ fn round_trip<const D: usize>(sys: &LoadedSystem<D>, order: ColumnOrder, text: &
     assert_eq!(again.time, sys.time);
     assert_eq!(again.potential, sys.potential);
     assert_eq!(again.reactions, sys.reactions);
+    assert_eq!(again.restitution, sys.restitution);
     for (a, b) in again.reactions.iter().zip(&sys.reactions) {
         let bits =
             |r: &edmd_core::Reaction| [r.activation, r.probability, r.heat].map(f64::to_bits);

@@ -11,8 +11,8 @@ use arbitrary::{Result, Unstructured};
 use edmd_core::pack::Packer;
 use edmd_core::{
     Barrier, Boundary, CollisionRule, Demon, Disc, EventKind, EventRecord, MultiContact, Observer,
-    Options, OverlapPolicy, PairSteps, Potential, Reaction, Reactions, SimBox, Simulation, Step,
-    Vector, OVERLAP_TOLERANCE,
+    Options, OverlapPolicy, PairSteps, Potential, Reaction, Reactions, Restitution, RestitutionLaw,
+    SimBox, Simulation, Step, Vector, OVERLAP_TOLERANCE,
 };
 
 /// The longest box axis over the shortest that the targets build (known defect 1).
@@ -68,6 +68,8 @@ pub struct Setup<const D: usize> {
     /// Reaction rules (elastic runs without multi-disc collisions or a potential), with the
     /// discs' species drawn for them.
     pub reactions: Option<Reactions>,
+    /// Restitution (elastic runs without multi-disc collisions, a potential or rules).
+    pub restitution: Option<Restitution>,
 }
 
 /// A random valid system: box lengths within [`MAX_ASPECT`], walls or periodic per axis, up to
@@ -299,6 +301,47 @@ pub fn setup<const D: usize>(u: &mut Unstructured, max_n: usize) -> Result<Setup
         r.fill_colours(discs.iter().map(|d| (d.species, d.colour)));
         reactions = Some(r);
     }
+    // Drawn last, for the same reason: a third of the remaining elastic systems collide
+    // inelastically, every pair and the walls with a coefficient from 0 to 1 or Bridges' law
+    // with a speed on the scale of theirs, species 0 and 1 with a law of their own, and the TC
+    // model on or off.
+    let mut restitution = None;
+    if rule == CollisionRule::Elastic
+        && multi.is_none()
+        && potential.is_none()
+        && reactions.is_none()
+        && u.ratio(1, 3)?
+    {
+        let law = |u: &mut Unstructured| -> arbitrary::Result<RestitutionLaw> {
+            Ok(if u.arbitrary::<bool>()? {
+                RestitutionLaw::Constant(unit(u)?)
+            } else {
+                RestitutionLaw::Bridges {
+                    v_c: vmax * unit(u)?.max(1e-3),
+                }
+            })
+        };
+        for d in &mut discs {
+            d.species = u.int_in_range(0..=1u16)?;
+        }
+        let all = law(u)?;
+        let pairs = if u.arbitrary::<bool>()? {
+            vec![(0, 1, law(u)?)]
+        } else {
+            Vec::new()
+        };
+        let tc = if u.arbitrary::<bool>()? {
+            0.0
+        } else {
+            1e-3 * unit(u)?
+        };
+        restitution = Some(Restitution {
+            all,
+            pairs,
+            wall: unit(u)?,
+            tc,
+        });
+    }
     Ok(Setup {
         discs,
         sim_box,
@@ -307,6 +350,7 @@ pub fn setup<const D: usize>(u: &mut Unstructured, max_n: usize) -> Result<Setup
         events,
         potential,
         reactions,
+        restitution,
     })
 }
 
@@ -396,8 +440,10 @@ impl<const D: usize> Observer<D> for Watch {
 pub fn run_checked<const D: usize>(sim: &mut Simulation<D>, events: u64) -> u64 {
     // Reactions release their heat into the kinetic energy: the energy less the heat released
     // is conserved.
-    let energy =
-        |sim: &Simulation<D>| sim.kinetic_energy() + sim.potential_energy() - sim.reaction_heat();
+    // is conserved; inelastic collisions lose it: the energy plus the loss is conserved.
+    let energy = |sim: &Simulation<D>| {
+        sim.kinetic_energy() + sim.potential_energy() - sim.reaction_heat() + sim.dissipated()
+    };
     let e0 = energy(sim);
     // Steps exchange kinetic energy with the potential's: the drift is judged against the
     // largest of the energies, at the start and now.
@@ -455,6 +501,11 @@ pub fn run_checked<const D: usize>(sim: &mut Simulation<D>, events: u64) -> u64 
             "the rules' counts do not add up to the reactions"
         );
         assert!(after.stale >= before.stale);
+        assert!(
+            sim.dissipated() >= 0.0 && sim.dissipated().is_finite(),
+            "energy lost {}",
+            sim.dissipated()
+        );
         assert!(
             sim.time() >= watch.last || k == 0,
             "clock behind the last event"
@@ -515,6 +566,8 @@ pub fn engine<const D: usize>(data: &[u8], max_n: usize) {
     if sim.set_reactions(s.reactions.clone()).is_err() {
         return;
     }
+    sim.set_restitution(s.restitution.clone())
+        .expect("restitution the generator made");
     let first = run_checked(&mut sim, s.events / 2);
     let ck = sim.to_checkpoint(b"fuzz");
     let (mut copy, extra) = Simulation::<D>::from_checkpoint(&ck).expect("own checkpoint");
@@ -576,6 +629,8 @@ pub fn check_loaded<const D: usize>(sys: &edmd_io::LoadedSystem<D>, text: &str) 
         .map(|mut sim| {
             sim.set_reactions(reactions.clone())
                 .expect("rules the reader accepted");
+            sim.set_restitution(sys.restitution.clone())
+                .expect("restitution the reader accepted");
             sim
         })
     };
@@ -592,6 +647,7 @@ pub fn check_loaded<const D: usize>(sys: &edmd_io::LoadedSystem<D>, text: &str) 
         // A stepped potential's energy is a sum of its steps' energies over the pairs.
         assert!(sim.potential_energy().is_finite());
         assert!(sim.reaction_heat().is_finite());
+        assert!(sim.dissipated().is_finite());
     }
 }
 
@@ -865,6 +921,42 @@ mod tests {
         }
     }
 
+    /// Writes the checkpoint seeds with restitution (format 7: the laws, the walls', the TC
+    /// model's time and each disc's last collision, the energy lost), payloads after a mode
+    /// byte: granular gases in 2D and 3D run until they have lost some energy. Run with
+    /// `cargo test --manifest-path fuzz/Cargo.toml -- --ignored write_restitution_seeds`.
+    #[test]
+    #[ignore]
+    fn write_restitution_seeds() {
+        use edmd_core::setup::lattice_fluid_in;
+        let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/corpus/read_checkpoint");
+        fn granular<const D: usize>(n: usize, eta: f64) -> Vec<u8> {
+            let (mut discs, bx) = lattice_fluid_in::<D>(n, eta, Boundary::Walls, 3).unwrap();
+            for (k, d) in discs.iter_mut().enumerate() {
+                d.species = (k % 2) as u16;
+            }
+            let mut sim = Simulation::new(&discs, bx, Options::default()).unwrap();
+            sim.set_restitution(Some(Restitution {
+                all: RestitutionLaw::Constant(0.8),
+                pairs: vec![(0, 1, RestitutionLaw::Bridges { v_c: 0.3 })],
+                wall: 0.9,
+                tc: 1e-3,
+            }))
+            .unwrap();
+            sim.run_events(40 * n as u64, &mut ());
+            assert!(sim.dissipated() > 0.0);
+            sim.to_checkpoint(b"")
+        }
+        for (name, dim, ck) in [
+            ("seed-restitution-2d", 2u8, granular::<2>(24, 0.4)),
+            ("seed-restitution-3d", 3u8, granular::<3>(32, 0.3)),
+        ] {
+            let mut seed = vec![dim - 2];
+            seed.extend_from_slice(&ck[CHECKPOINT_HEADER..ck.len() - 4]);
+            std::fs::write(format!("{dir}/{name}"), seed).unwrap();
+        }
+    }
+
     /// Writes the packing checkpoint seed corpus (payloads after a mode byte): run with
     /// `cargo test --manifest-path fuzz/Cargo.toml -- --ignored write_pack_seed_corpus`.
     #[test]
@@ -951,7 +1043,8 @@ mod tests {
         let s = setup::<D>(&mut Unstructured::new(data), max_n).unwrap();
         println!("{s:#?}");
         let sim = Simulation::with_barriers(&s.discs, s.sim_box, &s.barriers, s.options)
-            .and_then(|mut sim| sim.set_reactions(s.reactions.clone()).map(|()| sim));
+            .and_then(|mut sim| sim.set_reactions(s.reactions.clone()).map(|()| sim))
+            .and_then(|mut sim| sim.set_restitution(s.restitution.clone()).map(|()| sim));
         match sim {
             Ok(sim) => show_run(sim, s.events),
             Err(e) => println!("refused: {e}"),

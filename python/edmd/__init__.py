@@ -24,7 +24,11 @@ Contents:
   ``set_reactions(["0 + 1 -> 2 + 2 activation 1"])`` (or ``from_arrays(reactions=...)``,
   ``gen.fluid(species=(0.5, 0.5), reactions=...)``, a file's ``# edmd reaction`` lines), read
   back as ``reactions``, ``species_counts``, ``reaction_counts`` and ``reaction_heat``, and
-  measured over time by ``measure("kinetics", every=...)``.
+  measured over time by ``measure("kinetics", every=...)``; inelastic collisions with
+  ``set_restitution(0.9)`` (a coefficient of normal restitution per pair of species and at
+  the walls, constant or Bridges' law, and the TC model; or ``from_arrays(restitution=...)``,
+  ``gen.fluid(restitution=...)``, a file's ``# edmd restitution`` lines), read back as
+  ``restitution``, with the kinetic energy lost in ``dissipated``.
 - :mod:`edmd.gen`: the generators of ``edmd gen`` (fluids, mixtures, the Princeton data sets).
 - :func:`pack`: the compression of ``edmd pack`` (Lubachevsky-Stillinger) to a jammed packing
   or to a packing fraction; returns ``(sim, summary)``: the packing as a :class:`Simulation`

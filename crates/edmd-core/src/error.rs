@@ -113,6 +113,10 @@ pub enum Error {
     /// what it does not go with.
     #[error("restitution: {0}")]
     BadRestitution(String),
+    /// A field that cannot be: `g` not finite or 0, an axis beyond the dimension or periodic
+    /// (a disc would fall for ever), or a field with what it does not go with.
+    #[error("gravity: {0}")]
+    BadField(String),
     /// A time beyond what the clock resolves for these discs (see
     /// [`crate::Simulation::clock_limit`]).
     #[error(

@@ -918,3 +918,47 @@ fn a_species_beyond_the_potentials_range_is_refused() {
     .unwrap_err();
     assert!(e.to_string().contains("disc 0 is of species 256"), "{e}");
 }
+
+/// Found by fuzzing (`engine_2d`, `fuzz/corpus/engine_2d/engine_2d-cooling-column-underflow`):
+/// three discs in a column between inelastic walls cooled without end, their speeds falling
+/// by 150 orders of magnitude in 1000 collisions, until the squares of their relative
+/// velocities underflowed in the contact times and a pair overlapped by 2e-9 of its contact
+/// distance. Collisions slower than 1e-30 of the speed scale are now elastic.
+#[test]
+fn a_column_cooling_without_end_keeps_its_contacts() {
+    use edmd_core::{Restitution, RestitutionLaw};
+    let r = 0.10872287564595064;
+    let disc = |y: f64, vy: f64| {
+        Disc::new(
+            Vector::new([1.345119401846342, y]),
+            Vector::new([0.0, vy]),
+            r,
+        )
+    };
+    let discs = [
+        disc(0.2602744052599659, -0.15610989767101568),
+        disc(0.47772015655186717, -0.15610989767101568),
+        disc(0.6951659078437684, 0.0),
+    ];
+    let bx = SimBox {
+        lengths: [6.017639429312582, 0.8954394364072328],
+        boundaries: [Boundary::Periodic, Boundary::Walls],
+    };
+    let mut sim = Simulation::new(&discs, bx, Options::default()).unwrap();
+    sim.set_restitution(Some(Restitution {
+        all: RestitutionLaw::Constant(0.4117647058823529),
+        pairs: Vec::new(),
+        wall: 0.4984512092774853,
+        tc: 0.0004695506218051423,
+    }))
+    .unwrap();
+    for k in 0..2000 {
+        sim.step(f64::INFINITY).expect("an event");
+        let o = sim.overlaps(OVERLAP_TOLERANCE);
+        assert_eq!(o.count, 0, "after {k} events: {o:?}");
+    }
+    let slowest = (0..3)
+        .map(|i| sim.velocity(i).norm2().sqrt())
+        .fold(f64::INFINITY, f64::min);
+    assert!(slowest > 1e-40, "{slowest}");
+}

@@ -7,6 +7,7 @@ mod clock;
 mod exact_cases;
 mod fuzz_regressions;
 mod generators;
+mod gravity;
 mod inelastic;
 mod invariants;
 mod naive_reference;

@@ -4,7 +4,7 @@
 
 use pyo3::exceptions::{PyRuntimeError, PyTypeError, PyValueError};
 use pyo3::prelude::*;
-use pyo3::types::{PyBool, PyComplex, PyString};
+use pyo3::types::{PyBool, PyComplex, PyList, PyString, PyTuple};
 
 /// A short exact form of a number for messages: `1e300`, not 301 digits (Rust's `{:?}`).
 pub fn num(x: f64) -> String {
@@ -17,6 +17,11 @@ pub fn type_name(obj: &Bound<'_, PyAny>) -> String {
         .name()
         .map(|n| n.to_string())
         .unwrap_or_else(|_| "object".into())
+}
+
+/// `repr(obj)`, for messages.
+pub fn repr(obj: &Bound<'_, PyAny>) -> String {
+    obj.repr().map(|r| r.to_string()).unwrap_or_default()
 }
 
 /// A real number (a Python or numpy int or float; not a bool, a complex number or a str).
@@ -67,6 +72,34 @@ pub fn whole(obj: &Bound<'_, PyAny>, name: &str) -> PyResult<i128> {
             index.repr().map(|r| r.to_string()).unwrap_or_default()
         ))
     })
+}
+
+/// A species: a whole number below `below` (the most species the feature's tables hold).
+pub fn species(obj: &Bound<'_, PyAny>, what: &str, below: u16) -> PyResult<u16> {
+    let k = whole(obj, what)?;
+    if (0..i128::from(below)).contains(&k) {
+        Ok(k as u16)
+    } else {
+        Err(PyValueError::new_err(shorten_numbers(&format!(
+            "{what}: species are whole numbers from 0 to {}, got {k}",
+            below - 1
+        ))))
+    }
+}
+
+/// A pair of species `(a, b)`: a tuple or list of two, each below `below`.
+pub fn species_pair(obj: &Bound<'_, PyAny>, what: &str, below: u16) -> PyResult<(u16, u16)> {
+    if !(obj.is_instance_of::<PyTuple>() || obj.is_instance_of::<PyList>()) || obj.len()? != 2 {
+        return Err(PyTypeError::new_err(format!(
+            "{what}: expected a pair of species (a, b), got {} {}",
+            type_name(obj),
+            repr(obj)
+        )));
+    }
+    Ok((
+        species(&obj.get_item(0)?, what, below)?,
+        species(&obj.get_item(1)?, what, below)?,
+    ))
 }
 
 /// A count from 0 to 2^64 - 1.

@@ -13,6 +13,7 @@ mod arrays;
 mod pack;
 mod potential;
 mod reactions;
+mod restitution;
 mod state;
 
 use std::io::Write;
@@ -317,7 +318,10 @@ fn extension(path: &Path) -> Option<String> {
 /// Andersen heat bath, `set_thermostat(kT=..., rate=...)`; and reactive collisions, rules
 /// `A + B -> C + D` that change the species of colliding discs (`set_reactions`,
 /// `from_arrays(reactions=...)`, or a file's `# edmd reaction` lines), read back as
-/// `reactions`, `species_counts`, `reaction_counts` and `reaction_heat`.
+/// `reactions`, `species_counts`, `reaction_counts` and `reaction_heat`; and inelastic
+/// collisions, a coefficient of normal restitution per pair of species and at the walls
+/// (`set_restitution`, `from_arrays(restitution=...)`, `edmd.gen.fluid(restitution=...)`, or a
+/// file's `# edmd restitution` lines), read back as `restitution` and `dissipated`.
 ///
 /// Threads: a simulation is used by one thread at a time. While `run` is under way in one
 /// thread, every use of the simulation from another thread (reading `positions`, pickling,
@@ -432,9 +436,10 @@ impl PySimulation {
     /// Reads a data file, as `edmd run FILE` does: the course format, the Princeton format
     /// (with edmd's extension: 3D files, walls or periodic boundaries, barriers, species,
     /// stepped potentials from `# edmd potential` lines, reaction rules from `# edmd reaction`
-    /// lines), a GSD file of the HOOMD schema (HOOMD-blue's, the `gsd` package's or edmd's
-    /// own: a periodic box unless edmd wrote walls; positions and velocities to float32
-    /// precision, exact for files edmd wrote with `write`) or an `edmd run --checkpoint` file.
+    /// lines, inelastic collisions from `# edmd restitution` lines), a GSD file of the HOOMD
+    /// schema (HOOMD-blue's, the `gsd` package's or edmd's own: a periodic box unless edmd
+    /// wrote walls; positions and velocities to float32 precision, exact for files edmd wrote
+    /// with `write`) or an `edmd run --checkpoint` file.
     ///
     /// Args:
     ///     path: the file.
@@ -522,6 +527,11 @@ impl PySimulation {
     ///         `{"rules": [...], "seed": S, "colours": {species: (r, g, b)}}` that
     ///         `Simulation.reactions` gives back. Needs the elastic rule, binary collisions
     ///         and no stepped potential.
+    ///     restitution: inelastic collisions (None: elastic), as `set_restitution` takes
+    ///         them: a coefficient of normal restitution e in [0, 1] for every pair, or a dict
+    ///         `{"all": LAW, "pairs": {(a, b): LAW}, "walls": e, "tc": t}` (every key
+    ///         optional), a LAW being a coefficient or `{"bridges": v_c}`. Needs the elastic
+    ///         rule, binary collisions, no stepped potential and no reaction rules.
     ///
     /// Raises:
     ///     TypeError: an argument that is not numbers (strings, complex numbers, booleans,
@@ -530,7 +540,8 @@ impl PySimulation {
     ///         overflows, overlapping discs, discs outside the box, a bad box, a potential
     ///         whose steps are not in increasing radius, lie inside the hard core, or name a
     ///         species no disc has (the message starts "potential:"), reaction rules that
-    ///         cannot be (the message starts "reactions:").
+    ///         cannot be (the message starts "reactions:"), restitution that cannot be (the
+    ///         message starts "restitution:").
     ///
     /// >>> import numpy as np
     /// >>> sim = edmd.Simulation.from_arrays([[2.0, 5.0], [8.0, 5.0]], [[1.0, 0.0], [-1.0, 0.0]],
@@ -544,8 +555,10 @@ impl PySimulation {
     /// >>> pair = edmd.Simulation.from_arrays([[2.0, 5.0], [8.0, 5.0]], [[1.0, 0.0], [-1.0, 0.0]],
     /// ...                                    radii=1.0, box=(10.0, 10.0), species=[0, 1],
     /// ...                                    reactions=["0 + 1 -> 2 + 2 activation 0.5"])
+    /// >>> soft = edmd.Simulation.from_arrays([[2.0, 5.0], [8.0, 5.0]], [[1.0, 0.0], [-1.0, 0.0]],
+    /// ...                                    radii=1.0, box=(10.0, 10.0), restitution=0.5)
     #[staticmethod]
-    #[pyo3(signature = (positions, velocities, radii, masses=None, r#box=None, boundary=None, species=None, rule=None, multi=None, allow_overlaps=None, potential=None, reactions=None))]
+    #[pyo3(signature = (positions, velocities, radii, masses=None, r#box=None, boundary=None, species=None, rule=None, multi=None, allow_overlaps=None, potential=None, reactions=None, restitution=None))]
     #[allow(clippy::too_many_arguments)]
     fn from_arrays(
         positions: &Bound<'_, PyAny>,
@@ -560,6 +573,7 @@ impl PySimulation {
         allow_overlaps: Option<&Bound<'_, PyAny>>,
         potential: Option<&Bound<'_, PyAny>>,
         reactions: Option<&Bound<'_, PyAny>>,
+        restitution: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<Self> {
         let input = arrays::Input::new(
             positions, velocities, radii, masses, r#box, boundary, species, potential,
@@ -575,20 +589,26 @@ impl PySimulation {
             Some(r) => reactions::parse(r, "reactions")?,
             None => None,
         };
-        /// The simulation of the arrays, with the rules.
+        let restitution = match restitution {
+            Some(r) => restitution::parse(r, "restitution")?,
+            None => None,
+        };
+        /// The simulation of the arrays, with the rules and the restitution.
         fn made<const D: usize>(
             input: &arrays::Input,
             opts: Options,
             reactions: Option<edmd_core::Reactions>,
+            restitution: Option<edmd_core::Restitution>,
         ) -> PyResult<State<D>> {
             let mut sim = input.build::<D>(opts)?;
             reactions::apply(&mut sim, reactions, "reactions")?;
+            restitution::apply(&mut sim, restitution, "restitution")?;
             Ok(State::new(sim, Format::Princeton(ColumnOrder::RadiusMass)))
         }
         guarded("from_arrays", || {
             let inner = match input.dim {
-                3 => Inner::Three(made(&input, opts, reactions)?),
-                _ => Inner::Two(made(&input, opts, reactions)?),
+                3 => Inner::Three(made(&input, opts, reactions, restitution)?),
+                _ => Inner::Two(made(&input, opts, reactions, restitution)?),
             };
             Ok(PySimulation { inner })
         })
@@ -877,11 +897,13 @@ impl PySimulation {
     /// name and moved into place, as `edmd run` writes, and a refused call (a bad format, a
     /// system the course format cannot hold, a folder) leaves every file as it was.
     ///
-    /// A stepped potential and reaction rules are written with the state in Princeton files
-    /// (`# edmd potential` and `# edmd reaction` lines, as `edmd run` writes them) and in
-    /// checkpoints, so `from_file` reads them back (a Princeton file holds the rules, not the
-    /// seed of their draws or the counts so far: a checkpoint holds all); XYZ and GSD frames
-    /// hold neither, and the course format refuses both.
+    /// A stepped potential, reaction rules and restitution are written with the state in
+    /// Princeton files (`# edmd potential`, `# edmd reaction` and `# edmd restitution` lines,
+    /// as `edmd run` writes them) and in checkpoints, so `from_file` reads them back (a
+    /// Princeton file holds the rules and the restitution, not the seed of the rules' draws,
+    /// the counts, the energy dissipated so far or the TC model's clock: a checkpoint holds
+    /// all); XYZ and GSD frames hold none of them, and writing a state that has one as XYZ,
+    /// GSD or the course format is refused.
     ///
     /// >>> sim.write("state.txt")
     #[pyo3(signature = (path, *, format=None))]
@@ -1311,6 +1333,74 @@ impl PySimulation {
         Ok(each!(&get(slf)?.inner, s => s.sim.reaction_heat()))
     }
 
+    /// The inelastic collisions: None (collisions are elastic), or the dict
+    /// {"all", "pairs", "walls", "tc"} in full, as `set_restitution` takes it
+    /// (`sim.set_restitution(sim.restitution)` sets it again): "all" the law of every pair of
+    /// species not in "pairs", "pairs" a dict {(a, b): law}, "walls" the walls' coefficient,
+    /// "tc" the TC model's time; a law is a float e, or {"bridges": v_c}.
+    #[getter]
+    fn restitution<'py>(slf: &Bound<'py, Self>) -> PyResult<Option<Bound<'py, PyDict>>> {
+        let this = get(slf)?;
+        each!(&this.inner, s => s.sim.restitution().map(|r| restitution::to_dict(slf.py(), r)))
+            .transpose()
+    }
+
+    /// Makes collisions inelastic from now on, as a file's `# edmd restitution` lines do: at a
+    /// collision the normal relative velocity v_n becomes -e v_n (momentum kept; tangential
+    /// velocities unchanged, as for smooth discs), and the pair loses
+    /// `(1 - e^2) mu v_n^2 / 2` of kinetic energy (`mu` the reduced mass), added up in
+    /// `dissipated`. A disc at a wall leaves with its normal velocity reversed and multiplied
+    /// by the walls' coefficient. `e` is a constant, or Bridges, Hatzes and Lin's law for ice
+    /// (Nature 309, 333 (1984)), `e(v_n) = min(1, (v_n / v_c)^-0.234)`: elastic below the
+    /// speed v_c. A cluster of
+    /// inelastic discs can collapse (infinitely many collisions in a finite time, which stops
+    /// the clock); the TC model of Luding and McNamara (Granular Matter 1, 113 (1998)) keeps
+    /// that from happening: a collision less than `tc` after either disc's previous one (with
+    /// a disc or a wall) is elastic. `set_restitution(None)` (or a restitution with every
+    /// coefficient 1) makes collisions elastic again. Setting it starts `dissipated` again
+    /// from 0 and the TC model's clock with no disc having collided. Pickles and checkpoints
+    /// carry the restitution, the energy lost and the TC model's clock, so a restored
+    /// simulation continues bit for bit.
+    ///
+    /// Args:
+    ///     restitution: None (elastic); a coefficient e in [0, 1] for every pair of species
+    ///         (elastic walls, no TC model); or a dict {"all": LAW, "pairs": {(a, b): LAW,
+    ///         ...}, "walls": e, "tc": t}, every key optional (by default "all" 1.0, no
+    ///         pairs, "walls" 1.0, "tc" 0.0: the TC model off), a LAW being a coefficient
+    ///         e in [0, 1] or {"bridges": v_c} (v_c > 0). Pairs of species are whole numbers
+    ///         from 0 to 255; (a, b) and (b, a) are one pair, given once.
+    ///
+    /// Raises:
+    ///     TypeError, ValueError: a bad argument, named in the message with the key
+    ///         ("restitution['pairs'][(0, 1)]: ..."): a coefficient outside [0, 1], v_c not
+    ///         > 0, a negative tc, numbers that are not finite, a pair given twice;
+    ///         restitution with a stepped potential, reaction rules, multi-disc collisions or
+    ///         the swap rule. A refused call changes nothing.
+    ///
+    /// >>> sim.set_restitution(0.9)
+    /// >>> sim.set_restitution({"all": 0.9, "pairs": {(0, 1): {"bridges": 0.1}},
+    /// ...                      "walls": 0.5, "tc": 1e-4})
+    /// >>> sim.run(until=sim.time + 10.0)
+    /// >>> sim.kinetic_energy + sim.dissipated   # conserved, to rounding
+    /// >>> sim.set_restitution(None)
+    #[pyo3(signature = (restitution))]
+    fn set_restitution(slf: &Bound<'_, Self>, restitution: &Bound<'_, PyAny>) -> PyResult<()> {
+        let restitution = restitution::parse(restitution, "restitution")?;
+        let mut this = get_mut(slf)?;
+        guarded(
+            "set_restitution",
+            || each!(&mut this.inner, s => restitution::apply(&mut s.sim, restitution, "restitution")),
+        )
+    }
+
+    /// Kinetic energy lost in inelastic collisions since the restitution was set (0.0 when
+    /// collisions are elastic): `kinetic_energy + dissipated` is conserved, to rounding
+    /// (without a thermostat).
+    #[getter]
+    fn dissipated(slf: &Bound<'_, Self>) -> PyResult<f64> {
+        Ok(each!(&get(slf)?.inner, s => s.sim.dissipated()))
+    }
+
     /// How many discs are of each species now: an int64 array indexed by species, from 0 to
     /// the largest species a disc is or a rule names (so a product not made yet counts 0).
     #[getter]
@@ -1441,18 +1531,28 @@ impl PySimulation {
     }
 }
 
+/// What `sim` has beyond hard cores that only the Princeton format and checkpoints hold, in
+/// words for messages (the first of them); `None` for hard cores alone.
+fn beyond_hard_cores<const D: usize>(sim: &Simulation<D>) -> Option<&'static str> {
+    if sim.is_stepped() {
+        Some("the stepped potential")
+    } else if sim.reactions().is_some() {
+        Some("the reaction rules")
+    } else if sim.restitution().is_some() {
+        Some("the restitution")
+    } else {
+        None
+    }
+}
+
 /// The bytes of the file `write` makes: the state in format `kind`.
 fn render(inner: &Inner, kind: &str, path: &Path) -> PyResult<Vec<u8>> {
     let mut w = Vec::new();
     each!(inner, s => {
         let discs = s.sim.discs();
         match kind {
-            "gsd" | "xyz" if s.sim.is_stepped() || s.sim.reactions().is_some() => {
-                let what = if s.sim.is_stepped() {
-                    "the stepped potential"
-                } else {
-                    "the reaction rules"
-                };
+            "gsd" | "xyz" if beyond_hard_cores(&s.sim).is_some() => {
+                let what = beyond_hard_cores(&s.sim).unwrap_or_default();
                 return Err(value_error(format!(
                     "{}: cannot write the state as {kind}: it has no place for {what} (write the Princeton format, or a checkpoint)",
                     path.display()
@@ -1474,16 +1574,11 @@ fn render(inner: &Inner, kind: &str, path: &Path) -> PyResult<Vec<u8>> {
             }
             "checkpoint" => w = checkpoint_bytes(s)?,
             other => match format_from_name(other) {
-                Some(Format::Course) if s.sim.is_stepped() => {
+                Some(Format::Course) if beyond_hard_cores(&s.sim).is_some() => {
                     return Err(value_error(format!(
-                        "{}: cannot write the course format: it has no place for the stepped potential (write the Princeton format, or a checkpoint)",
-                        path.display()
-                    )))
-                }
-                Some(Format::Course) if s.sim.reactions().is_some() => {
-                    return Err(value_error(format!(
-                        "{}: cannot write the course format: it has no place for the reaction rules (write the Princeton format, or a checkpoint)",
-                        path.display()
+                        "{}: cannot write the course format: it has no place for {} (write the Princeton format, or a checkpoint)",
+                        path.display(),
+                        beyond_hard_cores(&s.sim).unwrap_or_default()
                     )))
                 }
                 Some(Format::Course) if s.sim.sim_box().lengths.len() == 2 => {
@@ -1506,13 +1601,15 @@ fn render(inner: &Inner, kind: &str, path: &Path) -> PyResult<Vec<u8>> {
                 Some(Format::Course) => {
                     return Err(value_error("format: the course format holds 2D systems only"))
                 }
-                // The stepped potential and the reaction rules, if any, as `# edmd potential`
-                // and `# edmd reaction` lines (as `edmd run` writes its output).
+                // The stepped potential, the reaction rules and the restitution, if any, as
+                // `# edmd potential`, `# edmd reaction` and `# edmd restitution` lines (as
+                // `edmd run` writes its output).
                 Some(fmt) => {
                     let hard = edmd_core::Potential::default();
                     let interactions = edmd_io::Interactions {
                         potential: s.sim.potential().unwrap_or(&hard),
                         reactions: s.sim.reactions().map_or(&[], |r| &r.rules),
+                        restitution: s.sim.restitution(),
                     };
                     edmd_io::write_full(&mut w, &discs, s.sim.sim_box(), s.sim.barriers(), interactions, fmt, s.sim.time())
                         .map_err(io_error)?
@@ -1641,7 +1738,7 @@ fn _restore(data: &Bound<'_, PyAny>) -> PyResult<PySimulation> {
 /// Makes a system as `edmd gen KIND` does (same checks, messages and seeds) and returns it as
 /// a simulation. Called by the functions in `edmd.gen`.
 #[pyfunction]
-#[pyo3(signature = (kind, *, dim=2, seed=1, course=false, n=None, radius=None, speed=None, mass=None, kt=None, packing=None, boundary=None, angle=None, impact=None, region=None, big_radius=None, big_mass=None, size_ratio=None, fraction_large=None, spread=None, well=None, shoulder=None, depth=None, rule="elastic", multi=false, species=None, reactions=None))]
+#[pyo3(signature = (kind, *, dim=2, seed=1, course=false, n=None, radius=None, speed=None, mass=None, kt=None, packing=None, boundary=None, angle=None, impact=None, region=None, big_radius=None, big_mass=None, size_ratio=None, fraction_large=None, spread=None, well=None, shoulder=None, depth=None, rule="elastic", multi=false, species=None, reactions=None, restitution=None))]
 #[allow(clippy::too_many_arguments)]
 fn _generate(
     kind: &str,
@@ -1670,6 +1767,7 @@ fn _generate(
     multi: bool,
     species: Option<&Bound<'_, PyAny>>,
     reactions: Option<&Bound<'_, PyAny>>,
+    restitution: Option<&Bound<'_, PyAny>>,
 ) -> PyResult<PySimulation> {
     use edmd::gen::{make_with, ChemistryArgs, GenArgs, Generated};
     let dim =
@@ -1685,6 +1783,14 @@ fn _generate(
     let reactions = match reactions {
         Some(r) => reactions::parse(r, "reactions")?,
         None => None,
+    };
+    // `edmd gen --restitution TEXT ...`: the texts of the restitution's directives, checked
+    // beside the other options by the command's own function.
+    let restitution_texts = match restitution {
+        Some(r) => restitution::parse(r, "restitution")?
+            .as_ref()
+            .map_or_else(Vec::new, restitution::directives),
+        None => Vec::new(),
     };
     let chemistry = ChemistryArgs {
         species: fractions.map(|f| {
@@ -1726,6 +1832,7 @@ fn _generate(
     let message = |e: anyhow::Error| {
         let mut m = format!("{e:#}")
             .replace('\n', " ")
+            .replace("--restitution", "restitution")
             .replace("--reaction", "reactions");
         for flag in [
             "fraction-large",
@@ -1786,19 +1893,24 @@ fn _generate(
         }
         .map_err(|e| value_error(format!("gen {kind}: {e}")))
     }
-    /// [`build`] with the rules, as `edmd run` sets those of the file `edmd gen` writes.
+    /// [`build`] with the rules and the restitution, as `edmd run` sets those of the file
+    /// `edmd gen` writes.
     fn reactive<const D: usize>(
         system: &edmd_core::System<D>,
         potential: &edmd_core::Potential,
         opts: Options,
         kind: &str,
         reactions: Option<edmd_core::Reactions>,
+        restitution: Option<edmd_core::Restitution>,
     ) -> PyResult<Simulation<D>> {
         let mut sim = build(system, potential, opts, kind)?;
         reactions::apply(&mut sim, reactions, "reactions")?;
+        restitution::apply(&mut sim, restitution, "restitution")?;
         Ok(sim)
     }
     guarded("gen", || {
+        let restitution =
+            edmd::gen::restitution_of(&args, &chemistry, &restitution_texts).map_err(message)?;
         let (generated, _) = make_with(&args, &chemistry).map_err(message)?;
         let potential = args.potential_of(&generated).map_err(message)?;
         match generated {
@@ -1807,13 +1919,13 @@ fn _generate(
             ))),
             Generated::Two(system, format) => Ok(PySimulation {
                 inner: Inner::Two(State::new(
-                    reactive(&system, &potential, opts, kind, reactions)?,
+                    reactive(&system, &potential, opts, kind, reactions, restitution)?,
                     format,
                 )),
             }),
             Generated::Three(system) => Ok(PySimulation {
                 inner: Inner::Three(State::new(
-                    reactive(&system, &potential, opts, kind, reactions)?,
+                    reactive(&system, &potential, opts, kind, reactions, restitution)?,
                     Format::Princeton(ColumnOrder::RadiusMass),
                 )),
             }),

@@ -16,42 +16,20 @@ use pyo3::exceptions::{PyTypeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyBytes, PyDict, PyList, PyString, PyTuple};
 
-use crate::args;
-
-fn repr(obj: &Bound<'_, PyAny>) -> String {
-    obj.repr().map(|r| r.to_string()).unwrap_or_default()
-}
+use crate::args::{self, repr};
 
 fn value_error(m: String) -> PyErr {
     PyValueError::new_err(args::shorten_numbers(&m))
 }
 
-/// A species: a whole number below [`MAX_REACTION_SPECIES`].
+/// A species of a rule: a whole number below [`MAX_REACTION_SPECIES`].
 fn species(obj: &Bound<'_, PyAny>, what: &str) -> PyResult<u16> {
-    let k = args::whole(obj, what)?;
-    if (0..i128::from(MAX_REACTION_SPECIES)).contains(&k) {
-        Ok(k as u16)
-    } else {
-        Err(value_error(format!(
-            "{what}: species are whole numbers from 0 to {}, got {k}",
-            MAX_REACTION_SPECIES - 1
-        )))
-    }
+    args::species(obj, what, MAX_REACTION_SPECIES)
 }
 
-/// A pair of species: a tuple or list of two.
+/// A pair of species of a rule: a tuple or list of two.
 fn species_pair(obj: &Bound<'_, PyAny>, what: &str) -> PyResult<(u16, u16)> {
-    if !(obj.is_instance_of::<PyTuple>() || obj.is_instance_of::<PyList>()) || obj.len()? != 2 {
-        return Err(PyTypeError::new_err(format!(
-            "{what}: expected a pair of species (a, b), got {} {}",
-            args::type_name(obj),
-            repr(obj)
-        )));
-    }
-    Ok((
-        species(&obj.get_item(0)?, what)?,
-        species(&obj.get_item(1)?, what)?,
-    ))
+    args::species_pair(obj, what, MAX_REACTION_SPECIES)
 }
 
 /// One rule: its text, or the dict form.

@@ -10,7 +10,7 @@
 use crate::error::Error;
 use crate::hint::filled;
 use crate::math::{select, Vector};
-use crate::predict::{interval_exit_or_inf, Side};
+use crate::predict::{interval_exit_accel, interval_exit_or_inf, Side};
 use crate::state::SimBox;
 
 /// "No disc": the end of a cell's list.
@@ -332,6 +332,48 @@ impl<const D: usize> CellGrid<D> {
             best = best.min(dt);
         }
         (best, axis, high)
+    }
+
+    /// [`Self::exit_time`] for a disc accelerated at `g` along `axis` (a field): along that
+    /// axis its coordinate follows a parabola ([`interval_exit_accel`]). Off the event loop's
+    /// hard-core copies, so written plainly.
+    pub fn exit_time_accel(
+        &self,
+        i: usize,
+        p: Vector<D>,
+        v: Vector<D>,
+        axis: usize,
+        g: f64,
+    ) -> (f64, usize, bool) {
+        let c = self.cell[i];
+        let (mut best, mut best_axis, mut high) = (f64::INFINITY, 0usize, false);
+        for a in 0..D {
+            let walled = !self.periodic[a];
+            let lo = if c[a] == 0 && walled {
+                f64::NEG_INFINITY
+            } else {
+                c[a] as f64 * self.width[a]
+            };
+            let hi = if c[a] + 1 >= self.dims[a] {
+                if walled {
+                    f64::INFINITY
+                } else {
+                    self.lengths[a]
+                }
+            } else {
+                (c[a] + 1) as f64 * self.width[a]
+            };
+            let (dt, h) = if a == axis {
+                interval_exit_accel(p[a], v[a], g, lo, hi)
+                    .map_or((f64::INFINITY, false), |(t, s)| (t, s == Side::High))
+            } else {
+                interval_exit_or_inf(p[a], v[a], lo, hi)
+            };
+            if dt < best {
+                (best, best_axis, high) = (dt, a, h);
+            }
+        }
+        (best, best_axis, high)
     }
 
     /// Whether `p` is in disc `i`'s cell, give or take `slack` on each axis: the cell as

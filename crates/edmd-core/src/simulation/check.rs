@@ -14,14 +14,14 @@ impl<const D: usize> Simulation<D> {
         let mut report = OverlapReport::default();
         let now = self.now;
         let longest = self.sim_box.lengths.iter().copied().fold(0.0, f64::max);
-        let speed = |k: usize| self.body[k].vel.norm2().sqrt();
+        let speed = |k: usize| self.velocity_of(k, now).norm2().sqrt();
         for i in 0..self.len() {
-            let pi = self.body[i].position_at(now);
+            let pi = self.position_of(i, now);
             self.grid.for_each_near(self.grid.cell_of(i), |j, shift| {
                 if j <= i {
                     return;
                 }
-                let pj = self.body[j].position_at(now) + shift;
+                let pj = self.position_of(j, now) + shift;
                 let sigma = self.body[i].radius + self.body[j].radius;
                 let d = (pj - pi).norm2().sqrt();
                 let rounding =
@@ -80,14 +80,16 @@ impl<const D: usize> Simulation<D> {
         let mut missed = None;
         for i in 0..self.len() {
             let bi = &self.body[i];
-            let pi = bi.position_at(t0);
+            let pi = self.position_of(i, t0);
+            let vi = self.velocity_of(i, t0);
             self.grid.for_each_near(self.grid.cell_of(i), |j, shift| {
                 if j <= i || missed.is_some() {
                     return;
                 }
                 let bj = &self.body[j];
-                let dr = bj.position_at(t0) + shift - pi;
-                let dv = bj.vel - bi.vel;
+                let dr = self.position_of(j, t0) + shift - pi;
+                let vj = self.velocity_of(j, t0);
+                let dv = vj - vi;
                 let sigma = bi.radius + bj.radius;
                 let terms = contact_terms::<D, true>(dr, dv, sigma);
                 if !terms.meets() {
@@ -101,7 +103,7 @@ impl<const D: usize> Simulation<D> {
                 // Their closest approach (`b < 0`, so `a > 0`) or the time either looks again.
                 let t = again.min(t0 - terms.b / dv.norm2());
                 let gap = (dr + dv * (t - t0)).norm2().sqrt();
-                let speeds = bi.vel.norm2().sqrt() + bj.vel.norm2().sqrt();
+                let speeds = vi.norm2().sqrt() + vj.norm2().sqrt();
                 let rounding = super::OVERLAP_ROUNDING * (longest + speeds * t.abs());
                 if gap < sigma * (1.0 - super::OVERLAP_TOLERANCE) - rounding {
                     missed = Some((i, j, t_contact, again));
@@ -118,7 +120,7 @@ impl<const D: usize> Simulation<D> {
     pub fn discs_outside(&self, tol: f64) -> Vec<usize> {
         (0..self.len())
             .filter(|&i| {
-                let p = self.body[i].position_at(self.now);
+                let p = self.position_of(i, self.now);
                 let r = self.body[i].radius;
                 (0..D).any(|a| {
                     !self.sim_box.is_periodic(a)

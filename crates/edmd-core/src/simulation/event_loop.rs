@@ -129,7 +129,7 @@ impl<const D: usize> Simulation<D> {
         // with reaction rules alone a copy that differs only in its pair events (its
         // predictions are the hard cores': the extras' copy cost 12% more per collision in 2D
         // at N = 10^4).
-        let extras = self.steps.is_some() || self.bath.is_some();
+        let extras = self.steps.is_some() || self.bath.is_some() || self.gravity.is_some();
         let react = !extras && self.has_rule();
         #[cfg(target_arch = "x86_64")]
         if self.v3 {
@@ -172,7 +172,7 @@ impl<const D: usize> Simulation<D> {
     }
 
     /// The event loop, for hard cores alone, or (`EXTRAS`) with a stepped potential, a
-    /// thermostat, reaction rules or restitution, or (`REACT`) with reaction rules or
+    /// thermostat, a field, reaction rules or restitution, or (`REACT`) with reaction rules or
     /// restitution alone.
     #[inline(always)]
     pub(super) fn run_loop_inline<O: Observer<D>, const EXTRAS: bool, const REACT: bool>(
@@ -215,7 +215,7 @@ impl<const D: usize> Simulation<D> {
     /// one-event paths; `run_chunk` gives reactions or restitution alone a copy of their own).
     #[inline(always)]
     pub(super) fn has_extras(&self) -> bool {
-        self.steps.is_some() || self.bath.is_some() || self.has_rule()
+        self.steps.is_some() || self.bath.is_some() || self.gravity.is_some() || self.has_rule()
     }
 
     /// Whether collisions follow a rule other than the hard cores' elastic one: reactions or
@@ -277,6 +277,9 @@ impl<const D: usize> Simulation<D> {
             }
             self.event_time = t;
             self.now = t;
+            if EXTRAS && self.gravity.is_some() {
+                self.advance_in_field(i, t);
+            }
             // The handlers change the state; the discs whose course changed (or whose cell
             // did) are predicted again here, in one place rather than in every handler, so
             // that each copy of the loop inlines the prediction twice (here and for stale
@@ -322,6 +325,18 @@ impl<const D: usize> Simulation<D> {
             }
             return Some(record);
         }
+    }
+
+    /// In a field, advances disc `i` and its partner, if its event has one, along their
+    /// parabolas to the event at `t`: the handlers then advance them by nothing, as if their
+    /// flights were straight.
+    #[inline(never)]
+    fn advance_in_field(&mut self, i: usize, t: f64) {
+        let field = self.gravity;
+        if let Pending::Disc { partner, .. } = self.body[i].pending {
+            self.body[partner as usize].advance_in(t, field);
+        }
+        self.body[i].advance_in(t, field);
     }
 
     /// Starts loading what the next events will read, so that memory latency overlaps with the

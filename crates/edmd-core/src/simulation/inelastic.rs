@@ -22,12 +22,22 @@ pub(super) struct Dissipation {
     pub(super) last: Vec<f64>,
     /// Kinetic energy lost so far: kinetic energy plus this is conserved to rounding.
     pub(super) lost: f64,
+    /// The normal relative speed below which a collision is elastic: [`FLOOR`] of the discs'
+    /// speed scale when the restitution was set. A gas left to cool would otherwise slow
+    /// without end, until the squares of its relative velocities in the contact times
+    /// underflow (below 1e-154 of the speed scale) and rounding lets pairs overlap.
+    pub(super) floor: f64,
 }
+
+/// The fraction of the speed scale below which collisions are elastic (see
+/// [`Dissipation::floor`]): far below what any run resolves (an energy of 1e-60 of the
+/// start's), far above where contact times lose their digits.
+pub const FLOOR: f64 = 1e-30;
 
 impl Dissipation {
     /// The tables for `restitution` (checked on its own) and `n` discs, none of which has
     /// collided yet.
-    pub(super) fn new(restitution: Restitution, n: usize) -> Result<Self, Error> {
+    pub(super) fn new(restitution: Restitution, n: usize, floor: f64) -> Result<Self, Error> {
         restitution.validate()?;
         let width = restitution
             .pairs
@@ -51,6 +61,7 @@ impl Dissipation {
             width,
             last,
             lost: 0.0,
+            floor,
         })
     }
 
@@ -104,7 +115,17 @@ impl<const D: usize> Simulation<D> {
             return Ok(());
         }
         self.restitution_fits()?;
-        self.dissipation = Some(Box::new(Dissipation::new(restitution, self.body.len())?));
+        if self.gravity.is_some() {
+            super::field::grains_in_field(&restitution).map_err(Error::BadRestitution)?;
+        }
+        let mass = self.mass.iter().sum::<f64>() / self.mass.len().max(1) as f64;
+        let floor = FLOOR * (self.mean_mv2 / mass).sqrt();
+        let floor = if floor.is_finite() { floor } else { 0.0 };
+        self.dissipation = Some(Box::new(Dissipation::new(
+            restitution,
+            self.body.len(),
+            floor,
+        )?));
         Ok(())
     }
 
@@ -165,10 +186,11 @@ impl<const D: usize> Simulation<D> {
         let dot = dv.dot(dr);
         let r2 = dr.norm2();
         let vn2 = dot * dot / r2;
-        let e = if quick || dot >= 0.0 {
+        let vn = vn2.sqrt();
+        let e = if quick || dot >= 0.0 || vn < diss.floor {
             1.0
         } else {
-            law.at(vn2.sqrt())
+            law.at(vn)
         };
         // e = 1 is the elastic rule's impulse to the bit.
         let impulse = if e == 1.0 {
@@ -203,7 +225,12 @@ impl<const D: usize> Simulation<D> {
     ) -> EventRecord<D> {
         let diss = self.dissipation.as_deref_mut().expect("restitution");
         let quick = diss.tc_elastic(&[i], t);
-        let e = if quick { 1.0 } else { diss.restitution.wall };
+        let slow = self.body[i].vel[axis].abs() < diss.floor;
+        let e = if quick || slow {
+            1.0
+        } else {
+            diss.restitution.wall
+        };
         if e == 1.0 {
             return self.bounce(i, axis, side, t);
         }

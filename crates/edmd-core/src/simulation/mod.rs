@@ -33,10 +33,11 @@ mod barriers;
 mod check;
 mod cluster;
 mod event_loop;
+mod field;
+mod inelastic;
 mod options;
 mod persist;
 mod predict;
-mod inelastic;
 mod reactions;
 #[cfg(target_arch = "x86_64")]
 mod scan_x86;
@@ -62,7 +63,7 @@ use crate::hint::{records, Records};
 use crate::math::Vector;
 use crate::resolve::CollisionRule;
 use crate::schedule::{CalendarQueue, EventQueue};
-use crate::state::{Barrier, Colour, Disc, Potential, SimBox, System};
+use crate::state::{Barrier, Colour, Disc, Gravity, Potential, SimBox, System};
 use barriers::validate_barriers;
 use check::validate_discs;
 
@@ -167,6 +168,8 @@ pub struct Simulation<const D: usize = 2> {
     /// The restitution, with the energy lost and the TC model's clock; `None`: collisions
     /// are elastic.
     dissipation: Option<Box<inelastic::Dissipation>>,
+    /// A uniform field; `None`: discs fly straight.
+    gravity: Option<Gravity>,
     /// Event counts (last: the fields above keep their places as counts are added).
     stats: Stats,
 }
@@ -403,6 +406,7 @@ impl<const D: usize> Simulation<D> {
             bath: None,
             chemistry: None,
             dissipation: None,
+            gravity: None,
         };
         sim.check_clock(t0)?;
         sim.set_portable_loop(false);
@@ -502,22 +506,22 @@ impl<const D: usize> Simulation<D> {
 
     /// Position of disc `i` at the current time (in the primary box on periodic axes).
     pub fn position(&self, i: usize) -> Vector<D> {
-        self.sim_box.wrap(self.body[i].position_at(self.now))
+        self.sim_box.wrap(self.position_of(i, self.now))
     }
 
     /// Position of disc `i` at the current time, not folded back into the box: the displacement
     /// since time 0 is `unwrapped_position(i) - initial position`.
     pub fn unwrapped_position(&self, i: usize) -> Vector<D> {
-        let mut p = self.body[i].position_at(self.now);
+        let mut p = self.position_of(i, self.now);
         for a in 0..D {
             p[a] += self.image[i][a] as f64 * self.sim_box.lengths[a];
         }
         p
     }
 
-    /// Velocity of disc `i`.
+    /// Velocity of disc `i` at the current time.
     pub fn velocity(&self, i: usize) -> Vector<D> {
-        self.body[i].vel
+        self.velocity_of(i, self.now)
     }
 
     /// Mass of disc `i`.
@@ -544,7 +548,7 @@ impl<const D: usize> Simulation<D> {
     pub fn disc(&self, i: usize) -> Disc<D> {
         Disc {
             pos: self.position(i),
-            vel: self.body[i].vel,
+            vel: self.velocity(i),
             mass: self.mass[i],
             radius: self.body[i].radius,
             colour: self.colour[i],
@@ -557,20 +561,20 @@ impl<const D: usize> Simulation<D> {
         (0..self.len()).map(|i| self.disc(i)).collect()
     }
 
-    /// Total kinetic energy `sum m v^2 / 2`.
+    /// Total kinetic energy `sum m v^2 / 2` at the current time.
     pub fn kinetic_energy(&self) -> f64 {
         self.body
             .iter()
             .zip(&self.mass)
-            .map(|(b, m)| 0.5 * m * b.vel.norm2())
+            .map(|(b, m)| 0.5 * m * b.velocity_in(self.now, self.gravity).norm2())
             .sum()
     }
 
-    /// Total momentum `sum m v`.
+    /// Total momentum `sum m v` at the current time.
     pub fn momentum(&self) -> Vector<D> {
         let mut p = Vector::ZERO;
         for (b, &m) in self.body.iter().zip(&self.mass) {
-            p += b.vel * m;
+            p += b.velocity_in(self.now, self.gravity) * m;
         }
         p
     }
@@ -603,9 +607,9 @@ impl<const D: usize> Simulation<D> {
     }
 
     fn replace_velocities(&mut self, mut f: impl FnMut(usize, Vector<D>) -> Vector<D>) {
-        let now = self.now;
+        let (now, field) = (self.now, self.gravity);
         for (i, b) in self.body.iter_mut().enumerate() {
-            b.advance_to(now);
+            b.advance_in(now, field);
             b.vel = f(i, b.vel);
             b.count = b.count.wrapping_add(1);
         }
@@ -652,12 +656,18 @@ impl<const D: usize> Simulation<D> {
     /// time is absolute, so this bounds a run's end, not its length: for discs of diameter 1 at
     /// a fastest speed of 4 it is 2^21, about 2 10^6.
     pub fn clock_limit(&self) -> f64 {
-        let v_max = self
+        // In a field a disc gains at most `sqrt(2 |g| L)` of speed falling across the box.
+        let fall = self
+            .gravity
+            .map_or(0.0, |f| 2.0 * f.g.abs() * self.sim_box.lengths[f.axis]);
+        let v_max = (self
             .body
             .iter()
             .map(|b| b.vel.norm2())
             .fold(0.0, f64::max)
-            .sqrt();
+            .sqrt()
+            + fall.sqrt())
+        .max(0.0);
         let sigma_min = self
             .body
             .iter()

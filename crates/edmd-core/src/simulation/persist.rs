@@ -398,11 +398,21 @@ impl<const D: usize> Simulation<D> {
                 w.f64(r.wall);
                 w.f64(r.tc);
                 w.f64(d.lost);
+                w.f64(d.floor);
                 if r.tc > 0.0 {
                     for &t in &d.last {
                         w.f64(t);
                     }
                 }
+            }
+        }
+        // The field (format 7).
+        match self.gravity {
+            None => w.u8(0),
+            Some(f) => {
+                w.u8(1);
+                w.u32(f.axis as u32);
+                w.f64(f.g);
             }
         }
         w.bytes(extra);
@@ -840,7 +850,11 @@ impl<const D: usize> Simulation<D> {
             if !(lost.is_finite() && lost >= 0.0) {
                 return bad(format!("energy lost to restitution {lost}"));
             }
-            let mut d = super::inelastic::Dissipation::new(restitution, n)
+            let floor = r.f64()?;
+            if !(floor.is_finite() && floor >= 0.0) {
+                return bad(format!("restitution's elastic speed {floor}"));
+            }
+            let mut d = super::inelastic::Dissipation::new(restitution, n, floor)
                 .or_else(|e| bad(e.to_string()))?;
             d.lost = lost;
             for i in 0..d.last.len() {
@@ -851,6 +865,15 @@ impl<const D: usize> Simulation<D> {
                 d.last[i] = t;
             }
             dissipation = Some(Box::new(d));
+        }
+        let mut gravity = None;
+        if version >= 7 && r.flag("field")? {
+            let f = crate::state::Gravity {
+                axis: r.u32()? as usize,
+                g: r.f64()?,
+            };
+            f.validate(D).or_else(|e| bad(e.to_string()))?;
+            gravity = Some(f);
         }
         let extra = r.bytes()?.to_vec();
         if !r.at_end() {
@@ -911,7 +934,11 @@ impl<const D: usize> Simulation<D> {
             bath,
             chemistry,
             dissipation,
+            gravity,
         };
+        if let Some(f) = sim.gravity {
+            sim.gravity_fits(f).or_else(|e| bad(e.to_string()))?;
+        }
         if sim.chemistry.is_some() {
             sim.reactions_fit().or_else(|e| bad(e.to_string()))?;
         }
@@ -928,13 +955,15 @@ impl<const D: usize> Simulation<D> {
         // is not the discs' would move the demon's thresholds and, far too large, keep the stall
         // watcher from seeing a creeping clock.
         // (Under a stepped potential kinetic energy is exchanged with the steps', under a
-        // thermostat with the bath, with reactions that release heat with the reactants, and
-        // inelastic collisions lose it, so only its finiteness is checked then.)
+        // thermostat with the bath, with reactions that release heat with the reactants, in a
+        // field with the field's, and inelastic collisions lose it, so only its finiteness is
+        // checked then.)
         let now_mv2 = sim.mean_mv2_now();
         let stepped = sim.steps.is_some()
             || sim.bath.is_some()
             || sim.chemistry.as_ref().is_some_and(|c| c.heat != 0.0)
-            || sim.dissipation.as_ref().is_some_and(|d| d.lost != 0.0);
+            || sim.dissipation.as_ref().is_some_and(|d| d.lost != 0.0)
+            || sim.gravity.is_some();
         if !(mean_mv2.is_finite() && (stepped || (mean_mv2 - now_mv2).abs() <= 1e-6 * now_mv2)) {
             return bad(format!(
                 "mean m v^2 {mean_mv2}, where the discs' kinetic energy gives {now_mv2}"

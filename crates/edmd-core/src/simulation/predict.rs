@@ -5,10 +5,11 @@ use crate::events::{Pending, Side};
 use crate::math::Vector;
 use crate::predict::barrier::{time_to_barrier, time_to_doorway, Contact};
 use crate::predict::{
-    contact_root, contact_terms, interval_exit, ContactTerms, FAR_CONTACT_RATIO2,
+    contact_root, contact_terms, interval_exit, interval_exit_accel, ContactTerms,
+    FAR_CONTACT_RATIO2,
 };
 use crate::schedule::EventQueue;
-use crate::state::SimBox;
+use crate::state::{Gravity, SimBox};
 
 use super::{Body, Simulation, NO_PARTNER};
 
@@ -75,6 +76,9 @@ impl<const D: usize> Simulation<D> {
     /// instructions per collision and measured slower in 2D (BENCHMARKS.md).
     pub(super) fn own_event(&self, i: usize) -> (f64, Pending) {
         let bi = self.body[i];
+        if let Some(f) = self.gravity {
+            return self.own_event_in_field(i, bi.time, bi.pos, bi.vel, f);
+        }
         let (mut best_t, mut best) = (f64::INFINITY, Pending::Nothing);
         if let Some(steps) = self.steps.as_deref() {
             let dt = super::steps::leash_time(steps, bi.pos, bi.vel, i);
@@ -120,6 +124,56 @@ impl<const D: usize> Simulation<D> {
         (best_t, best)
     }
 
+    /// Disc `i`'s earliest event of its own in the field `f` (its cell exit, a wall, a
+    /// redraw), from `pos` and `vel` at its own clock `t0`: the event's time and the event.
+    /// Predictions and [`Self::own_event`] both take it, so they agree to the bit. (No
+    /// barriers or stepped potential: a field is refused with them.)
+    pub(super) fn own_event_in_field(
+        &self,
+        i: usize,
+        t0: f64,
+        pos: Vector<D>,
+        vel: Vector<D>,
+        f: Gravity,
+    ) -> (f64, Pending) {
+        let (mut best_dt, mut best) = (f64::INFINITY, Pending::Nothing);
+        let (dt, axis, high) = self.grid.exit_time_accel(i, pos, vel, f.axis, f.g);
+        if dt != f64::INFINITY {
+            best_dt = dt;
+            best = Pending::Cell {
+                axis: axis as u8,
+                side: if high { Side::High } else { Side::Low },
+            };
+        }
+        let radius = self.body[i].radius;
+        for a in 0..D {
+            if self.sim_box.is_periodic(a) {
+                continue;
+            }
+            let (lo, hi) = (radius, self.sim_box.lengths[a] - radius);
+            let exit = if a == f.axis {
+                interval_exit_accel(pos[a], vel[a], f.g, lo, hi)
+            } else {
+                interval_exit(pos[a], vel[a], lo, hi)
+            };
+            if let Some((dt, side)) = exit {
+                if dt < best_dt {
+                    best_dt = dt;
+                    best = Pending::Wall {
+                        axis: a as u8,
+                        side,
+                    };
+                }
+            }
+        }
+        let best_t = if best_dt == f64::INFINITY {
+            f64::INFINITY
+        } else {
+            t0 + best_dt
+        };
+        self.bath_event(i, best_t, best)
+    }
+
     /// Finds disc `i`'s earliest event from the last event time on and schedules it (with the
     /// steps of a stepped potential and the thermostat's redraws when `EXTRAS`).
     #[inline(always)]
@@ -143,6 +197,9 @@ impl<const D: usize> Simulation<D> {
     #[inline(always)]
     fn predict_with<const FAR: bool, const EXTRAS: bool>(&mut self, i: usize) {
         let t0 = self.event_time;
+        if EXTRAS && self.gravity.is_some() {
+            return self.predict_in_field::<FAR>(i);
+        }
         self.body[i].advance_to(t0);
         // The fields read, not a copy of the record: the copy, just after `advance_to` wrote
         // the record, was made with wide loads that the stores could not forward to.
@@ -277,6 +334,84 @@ impl<const D: usize> Simulation<D> {
         }
         self.body[i].pending = best;
         self.queue.set(i, best_t);
+    }
+}
+
+impl<const D: usize> Simulation<D> {
+    /// [`Self::predict`] in a field (see `field.rs`): the disc advanced along its parabola, its
+    /// own events from [`Self::own_event_in_field`], and the candidates of the grid's scan at
+    /// their positions and velocities now (their relative motion is straight: the field
+    /// cancels from it). Outlined: the hard cores' copies of the loop never come here.
+    #[inline(never)]
+    fn predict_in_field<const FAR: bool>(&mut self, i: usize) {
+        let t0 = self.event_time;
+        let f = self.gravity.expect("a field");
+        self.body[i].advance_in(t0, Some(f));
+        let (pos, vel, radius) = {
+            let b = &self.body[i];
+            (b.pos, b.vel, b.radius)
+        };
+        let (best_t, mut best) = self.own_event_in_field(i, t0, pos, vel, f);
+        let nearest = Nearest::new(t0, best_t, &mut self.kept);
+        let c = self.grid.cell_of(i);
+        let mut scan = FieldCandidates::<D, FAR> {
+            body: &self.body,
+            field: f,
+            t0,
+            pos,
+            vel,
+            radius,
+            nearest,
+        };
+        self.grid.visit_near(c, &mut scan);
+        let own = best;
+        let (best_t, partner, second_t, second_partner) = scan.nearest.settle();
+        if partner != NO_PARTNER {
+            best = Pending::Disc {
+                partner,
+                seen: self.body[partner as usize].count,
+            };
+            if D == 3 {
+                let second = if second_partner != NO_PARTNER {
+                    Pending::Disc {
+                        partner: second_partner,
+                        seen: self.body[second_partner as usize].count,
+                    }
+                } else {
+                    own
+                };
+                self.second[i] = (second_t, second);
+            }
+        } else if D == 3 {
+            self.second[i] = (f64::INFINITY, Pending::Nothing);
+        }
+        self.body[i].pending = best;
+        self.queue.set(i, best_t);
+    }
+}
+
+/// [`Candidates`] in a field: each candidate at its position and velocity at `t0`.
+struct FieldCandidates<'a, const D: usize, const FAR: bool> {
+    body: &'a [Body<D>],
+    field: Gravity,
+    t0: f64,
+    pos: Vector<D>,
+    vel: Vector<D>,
+    radius: f64,
+    nearest: Nearest<'a>,
+}
+
+impl<const D: usize, const FAR: bool> Visit<D> for &mut FieldCandidates<'_, D, FAR> {
+    #[inline(always)]
+    fn visit(&mut self, j: usize, shift: Vector<D>) {
+        let bj = &self.body[j];
+        let f = Some(self.field);
+        let pj = bj.position_in(self.t0, f) + shift;
+        let vj = bj.velocity_in(self.t0, f);
+        self.nearest.offer(
+            j,
+            contact_terms::<D, FAR>(pj - self.pos, vj - self.vel, self.radius + bj.radius),
+        );
     }
 }
 

@@ -467,12 +467,14 @@ impl<const D: usize> Simulation<D> {
     }
 
     /// The potential energy: the sum over pairs of the energy of their shell (0 without a
-    /// stepped potential). Kinetic plus potential energy is conserved.
+    /// stepped potential), plus the field's ([`Self::field_energy`]). Kinetic plus potential
+    /// energy is conserved (without a thermostat, reactions' heat or restitution).
     pub fn potential_energy(&self) -> f64 {
         self.shells()
             .into_iter()
             .map(|(i, j, s)| self.pair_energy(i, j, s))
-            .sum()
+            .sum::<f64>()
+            + self.field_energy()
     }
 
     /// The energy of the pair `i`, `j` in shell `s`.

@@ -2,6 +2,7 @@
 
 pub mod barrier;
 pub mod disc;
+pub mod gravity;
 pub mod potential;
 pub mod reaction;
 pub mod restitution;
@@ -9,6 +10,7 @@ pub mod sim_box;
 
 pub use barrier::{Barrier, Demon};
 pub use disc::{Colour, Disc};
+pub use gravity::Gravity;
 pub use potential::{PairSteps, Potential, Step, MAX_POTENTIAL_SPECIES, MAX_STEPS};
 pub use reaction::{species_colour, Reaction, Reactions, MAX_REACTION_SPECIES};
 pub use restitution::{Restitution, RestitutionLaw, BRIDGES_EXPONENT, MAX_RESTITUTION_SPECIES};
