@@ -16,6 +16,7 @@ fn round_trip<const D: usize>(sys: &LoadedSystem<D>, order: ColumnOrder, text: &
         potential: &sys.potential,
         reactions: &sys.reactions,
         restitution: sys.restitution.as_ref(),
+        gravity: sys.gravity,
     };
     princeton::write_full(
         &mut out,
@@ -36,6 +37,7 @@ fn round_trip<const D: usize>(sys: &LoadedSystem<D>, order: ColumnOrder, text: &
     assert_eq!(again.potential, sys.potential);
     assert_eq!(again.reactions, sys.reactions);
     assert_eq!(again.restitution, sys.restitution);
+    assert_eq!(again.gravity, sys.gravity);
     for (a, b) in again.reactions.iter().zip(&sys.reactions) {
         let bits =
             |r: &edmd_core::Reaction| [r.activation, r.probability, r.heat].map(f64::to_bits);

@@ -10,9 +10,9 @@
 use arbitrary::{Result, Unstructured};
 use edmd_core::pack::Packer;
 use edmd_core::{
-    Barrier, Boundary, CollisionRule, Demon, Disc, EventKind, EventRecord, MultiContact, Observer,
-    Options, OverlapPolicy, PairSteps, Potential, Reaction, Reactions, Restitution, RestitutionLaw,
-    SimBox, Simulation, Step, Vector, OVERLAP_TOLERANCE,
+    Barrier, Boundary, CollisionRule, Demon, Disc, EventKind, EventRecord, Gravity, MultiContact,
+    Observer, Options, OverlapPolicy, PairSteps, Potential, Reaction, Reactions, Restitution,
+    RestitutionLaw, SimBox, Simulation, Step, Vector, OVERLAP_TOLERANCE,
 };
 
 /// The longest box axis over the shortest that the targets build (known defect 1).
@@ -70,6 +70,8 @@ pub struct Setup<const D: usize> {
     pub reactions: Option<Reactions>,
     /// Restitution (elastic runs without multi-disc collisions, a potential or rules).
     pub restitution: Option<Restitution>,
+    /// A uniform field (without a potential, barriers or multi-disc collisions).
+    pub gravity: Option<Gravity>,
 }
 
 /// A random valid system: box lengths within [`MAX_ASPECT`], walls or periodic per axis, up to
@@ -342,6 +344,29 @@ pub fn setup<const D: usize>(u: &mut Unstructured, max_n: usize) -> Result<Setup
             tc,
         });
     }
+    // And a third of the systems without a potential, barriers or multi-disc collisions fall
+    // in a field along a walled axis, up to ten times the speed scale squared over the box:
+    // from a gentle pull to a heap. Inelastic ones then take the TC model and walls that do
+    // not stop a disc dead, as the engine asks.
+    let walled: Vec<usize> = (0..D).filter(|&a| !sim_box.is_periodic(a)).collect();
+    let mut gravity = None;
+    if potential.is_none()
+        && barriers.is_empty()
+        && multi.is_none()
+        && !walled.is_empty()
+        && u.ratio(1, 3)?
+    {
+        let axis = walled[u.int_in_range(0..=walled.len() - 1)?];
+        let scale = vmax * vmax / sim_box.lengths[axis];
+        let g = scale * 10.0 * (2.0 * unit(u)? - 1.0);
+        if g != 0.0 {
+            gravity = Some(Gravity { axis, g });
+            if let Some(r) = &mut restitution {
+                r.tc = r.tc.max(1e-4);
+                r.wall = r.wall.max(0.05);
+            }
+        }
+    }
     Ok(Setup {
         discs,
         sim_box,
@@ -351,6 +376,7 @@ pub fn setup<const D: usize>(u: &mut Unstructured, max_n: usize) -> Result<Setup
         potential,
         reactions,
         restitution,
+        gravity,
     })
 }
 
@@ -566,6 +592,8 @@ pub fn engine<const D: usize>(data: &[u8], max_n: usize) {
     if sim.set_reactions(s.reactions.clone()).is_err() {
         return;
     }
+    sim.set_gravity(s.gravity)
+        .expect("a field the generator made");
     sim.set_restitution(s.restitution.clone())
         .expect("restitution the generator made");
     let first = run_checked(&mut sim, s.events / 2);
@@ -629,6 +657,8 @@ pub fn check_loaded<const D: usize>(sys: &edmd_io::LoadedSystem<D>, text: &str) 
         .map(|mut sim| {
             sim.set_reactions(reactions.clone())
                 .expect("rules the reader accepted");
+            sim.set_gravity(sys.gravity)
+                .expect("a field the reader accepted");
             sim.set_restitution(sys.restitution.clone())
                 .expect("restitution the reader accepted");
             sim
@@ -1044,6 +1074,7 @@ mod tests {
         println!("{s:#?}");
         let sim = Simulation::with_barriers(&s.discs, s.sim_box, &s.barriers, s.options)
             .and_then(|mut sim| sim.set_reactions(s.reactions.clone()).map(|()| sim))
+            .and_then(|mut sim| sim.set_gravity(s.gravity).map(|()| sim))
             .and_then(|mut sim| sim.set_restitution(s.restitution.clone()).map(|()| sim));
         match sim {
             Ok(sim) => show_run(sim, s.events),

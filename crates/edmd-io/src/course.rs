@@ -39,6 +39,7 @@ impl CourseSystem {
             potential: Default::default(),
             reactions: Vec::new(),
             restitution: None,
+            gravity: None,
         }
     }
 }

@@ -1194,6 +1194,7 @@ fn build<const D: usize>(
         potential: Default::default(),
         reactions: Vec::new(),
         restitution: None,
+        gravity: None,
     };
     (system, images)
 }

@@ -25,7 +25,7 @@ pub mod xyz;
 
 pub use text::ParseError;
 
-use edmd_core::{Barrier, Disc, Potential, Reaction, Restitution, SimBox};
+use edmd_core::{Barrier, Disc, Gravity, Potential, Reaction, Restitution, SimBox};
 
 /// A system read from a file, with the line each disc came from (`D = 3` for spheres).
 #[derive(Clone, Debug, PartialEq)]
@@ -51,10 +51,13 @@ pub struct LoadedSystem<const D: usize = 2> {
     /// The restitution (`# edmd restitution`; none: collisions are elastic). Only the
     /// Princeton format holds it.
     pub restitution: Option<Restitution>,
+    /// The uniform field (`# edmd gravity`; none: discs fly straight). Only the Princeton
+    /// format holds it.
+    pub gravity: Option<Gravity>,
 }
 
 /// How particles interact besides their hard cores, as the Princeton format's directives say
-/// it: the stepped potential, the reaction rules and the restitution.
+/// it: the stepped potential, the reaction rules, the restitution and the field.
 #[derive(Clone, Copy, Debug)]
 pub struct Interactions<'a> {
     /// The stepped pair potential (no pairs: hard cores).
@@ -63,6 +66,8 @@ pub struct Interactions<'a> {
     pub reactions: &'a [Reaction],
     /// The restitution (none: collisions are elastic).
     pub restitution: Option<&'a Restitution>,
+    /// The uniform field (none: discs fly straight).
+    pub gravity: Option<Gravity>,
 }
 
 /// Hard cores with no steps, for [`Interactions::HARD`].
@@ -74,11 +79,15 @@ impl Interactions<'_> {
         potential: &NO_STEPS,
         reactions: &[],
         restitution: None,
+        gravity: None,
     };
 
     /// Whether there is nothing besides hard cores.
     pub fn is_hard(&self) -> bool {
-        self.potential.is_hard() && self.reactions.is_empty() && self.restitution.is_none()
+        self.potential.is_hard()
+            && self.reactions.is_empty()
+            && self.restitution.is_none()
+            && self.gravity.is_none()
     }
 }
 
@@ -190,6 +199,7 @@ pub fn write_with<const D: usize>(
         potential,
         reactions: &[],
         restitution: None,
+        gravity: None,
     };
     write_full(out, discs, sim_box, barriers, interactions, format, time)
 }
@@ -216,6 +226,12 @@ pub fn write_full<const D: usize>(
         return Err(std::io::Error::new(
             std::io::ErrorKind::InvalidInput,
             "the course format has no place for reaction rules",
+        ));
+    }
+    if format == Format::Course && interactions.gravity.is_some() {
+        return Err(std::io::Error::new(
+            std::io::ErrorKind::InvalidInput,
+            "the course format has no place for a field",
         ));
     }
     if format == Format::Course && interactions.restitution.is_some() {

@@ -30,6 +30,9 @@
 //!     `A B E` or `A B bridges VC` for one pair, `walls E` for the walls, `tc T` for the TC
 //!     model's time; one line for each, and they do not go with a stepped potential or
 //!     reaction rules;
+//!   - `# edmd gravity AXIS G`: a uniform field (see `edmd_core::Gravity`): every disc
+//!     accelerated at `G` along axis `x`, `y` (or `z` in 3D), negative towards 0; the axis
+//!     must have walls; at most once, and not with a stepped potential or barriers;
 //!   - `# edmd reaction A + B -> C + D [activation E] [probability P] [heat Q]`: a reaction
 //!     rule (see `edmd_core::Reaction` and [`crate::reaction`] for the grammar): a disc of
 //!     species `A` colliding with one of `B` with at least `E` of kinetic energy in their
@@ -47,8 +50,8 @@
 //!   barriers are 2D only. `# edmd dim 2` is allowed and changes nothing.
 
 use edmd_core::{
-    Barrier, Boundary, Demon, Disc, PairSteps, Potential, Reaction, Restitution, SimBox, Step,
-    Vector,
+    Barrier, Boundary, Demon, Disc, Gravity, PairSteps, Potential, Reaction, Restitution, SimBox,
+    Step, Vector,
 };
 
 use crate::text::{count, err, exact, expect_end, number, Lines};
@@ -241,6 +244,40 @@ pub fn parse_in<const D: usize>(
         }
     }
     check_reactions(&d.reactions, &d.potential, &discs, d.time)?;
+    if let Some((line, f)) = d.gravity {
+        if d.sim_box.is_periodic(f.axis) {
+            return Err(err(
+                line,
+                format!(
+                    "gravity: the field's axis {} must have walls (along a periodic axis a disc would fall for ever)",
+                    ["x", "y", "z"][f.axis]
+                ),
+            ));
+        }
+        if let Some((first, _)) = d.potential.first() {
+            return Err(err(
+                line,
+                format!("gravity does not go with a stepped potential (line {first})"),
+            ));
+        }
+        if !d.barriers.is_empty() {
+            return Err(err(line, "gravity does not go with barriers"));
+        }
+        if let Some((_, r)) = &d.restitution {
+            if !r.is_elastic() && r.tc <= 0.0 {
+                return Err(err(
+                    line,
+                    "gravity with inelastic collisions needs the TC model ('# edmd restitution tc T', T > 0): grains coming to rest on the floor would otherwise collide infinitely often in a finite time",
+                ));
+            }
+            if r.wall == 0.0 {
+                return Err(err(
+                    line,
+                    "gravity needs the walls' restitution above 0: a disc stopped dead at the floor would meet it again at once",
+                ));
+            }
+        }
+    }
     if let Some((line, _)) = d.restitution {
         let other = match (d.potential.first(), d.reactions.first()) {
             (Some((first, _)), _) => Some(("a stepped potential", first)),
@@ -266,6 +303,7 @@ pub fn parse_in<const D: usize>(
         },
         reactions: d.reactions.into_iter().map(|(_, r)| r).collect(),
         restitution: d.restitution.map(|(_, r)| r),
+        gravity: d.gravity.map(|(_, f)| f),
     })
 }
 
@@ -289,6 +327,8 @@ struct Directives<const D: usize> {
     reactions: Vec<(usize, Reaction)>,
     /// The restitution, with the line of its first directive.
     restitution: Option<(usize, Restitution)>,
+    /// The field, with its line.
+    gravity: Option<(usize, Gravity)>,
 }
 
 /// Interprets the `# edmd` directives.
@@ -297,6 +337,8 @@ fn directives<const D: usize>(list: &[(usize, Vec<&str>)]) -> Result<Directives<
     let mut potential: Vec<(usize, PairSteps)> = Vec::new();
     let mut reactions: Vec<(usize, Reaction)> = Vec::new();
     let mut restitution: Option<(usize, Restitution)> = None;
+    let mut gravity: Option<(usize, Gravity)> = None;
+    let mut seen_gravity: Option<usize> = None;
     let mut parts: Vec<(usize, crate::restitution::Part)> = Vec::new();
     let mut barriers = Vec::new();
     let mut time = 0.0;
@@ -386,6 +428,29 @@ fn directives<const D: usize>(list: &[(usize, Vec<&str>)]) -> Result<Directives<
                 }
                 reactions.push((line, r));
             }
+            Some("gravity") => {
+                once(&mut seen_gravity, "gravity")?;
+                let usage = if D == 3 {
+                    "expected 'gravity x|y|z G'"
+                } else {
+                    "expected 'gravity x|y G'"
+                };
+                let [axis, g] = &w[1..] else {
+                    return Err(err(line, usage));
+                };
+                let axis = match *axis {
+                    "x" => 0,
+                    "y" => 1,
+                    "z" if D == 3 => 2,
+                    _ => return Err(err(line, usage)),
+                };
+                let f = Gravity {
+                    axis,
+                    g: number(line, g, "G")?,
+                };
+                f.validate(D).map_err(|e| err(line, e.to_string()))?;
+                gravity = Some((line, f));
+            }
             Some("restitution") => {
                 let (_, r) = restitution.get_or_insert_with(|| (line, Restitution::default()));
                 let part = crate::restitution::parse(&w[1..], r)
@@ -408,7 +473,7 @@ fn directives<const D: usize>(list: &[(usize, Vec<&str>)]) -> Result<Directives<
             Some(other) => {
                 return Err(err(
                     line,
-                    format!("unknown edmd directive '{other}' (dim, box, boundary, barrier, time, potential, reaction, restitution)"),
+                    format!("unknown edmd directive '{other}' (dim, box, boundary, barrier, time, potential, reaction, restitution, gravity)"),
                 ))
             }
             None => return Err(err(line, "empty edmd directive")),
@@ -421,6 +486,7 @@ fn directives<const D: usize>(list: &[(usize, Vec<&str>)]) -> Result<Directives<
         potential,
         reactions,
         restitution,
+        gravity,
     })
 }
 
@@ -613,6 +679,7 @@ pub fn write_with<const D: usize>(
             potential,
             reactions: &[],
             restitution: None,
+            gravity: None,
         },
         order,
         time,
@@ -683,6 +750,14 @@ pub fn write_full<const D: usize>(
     }
     for r in interactions.reactions {
         writeln!(out, "# edmd reaction {}", crate::reaction::text(r))?;
+    }
+    if let Some(f) = interactions.gravity {
+        writeln!(
+            out,
+            "# edmd gravity {} {}",
+            ["x", "y", "z"][f.axis],
+            exact(f.g)
+        )?;
     }
     for l in interactions
         .restitution
@@ -788,6 +863,7 @@ mod tests {
             potential: &s.potential,
             reactions: &s.reactions,
             restitution: s.restitution.as_ref(),
+            gravity: s.gravity,
         };
         write_full(
             &mut out,
@@ -1236,6 +1312,7 @@ mod tests {
             potential: &s.potential,
             reactions: &s.reactions,
             restitution: s.restitution.as_ref(),
+            gravity: s.gravity,
         };
         write_full(
             &mut out,
@@ -1269,6 +1346,64 @@ mod tests {
             (
                 "# edmd restitution 0.9\n# edmd reaction 0 + 0 -> 1 + 1\n",
                 "line 2: restitution does not go with reaction rules (line 3)",
+            ),
+        ] {
+            let text = format!("1\n{bad}.5 .5 0 0 .1 1 0 0 0\n");
+            let e = parse(&text, ColumnOrder::default())
+                .unwrap_err()
+                .to_string();
+            assert!(e.contains(want), "{e}");
+        }
+    }
+
+    /// `# edmd gravity` is read and written back, at most once, along an axis with walls, and
+    /// inelastic collisions beside it need the TC model.
+    #[test]
+    fn gravity_is_read_and_written_back() {
+        let text = "1\n# edmd box 4 4\n# edmd boundary periodic walls\n# edmd gravity y -9.5\n1 1 0 0 .5 1 0 0 0\n";
+        let s = parse(text, ColumnOrder::default()).unwrap();
+        assert_eq!(s.gravity, Some(Gravity { axis: 1, g: -9.5 }));
+        let mut out = Vec::new();
+        let interactions = Interactions {
+            potential: &s.potential,
+            reactions: &s.reactions,
+            restitution: None,
+            gravity: s.gravity,
+        };
+        write_full(
+            &mut out,
+            &s.discs,
+            &s.sim_box,
+            &[],
+            interactions,
+            ColumnOrder::default(),
+            0.0,
+        )
+        .unwrap();
+        let back = parse(std::str::from_utf8(&out).unwrap(), ColumnOrder::default()).unwrap();
+        assert_eq!(back.gravity, s.gravity);
+        for (bad, want) in [
+            (
+                "# edmd gravity y -1\n# edmd gravity y -2\n",
+                "line 3: a second '# edmd gravity' line",
+            ),
+            ("# edmd gravity z -1\n", "line 2: expected 'gravity x|y G'"),
+            (
+                "# edmd gravity y 0\n",
+                "line 2: gravity: g must be a finite number other than 0",
+            ),
+            ("# edmd gravity y nan\n", "line 2: G is not"),
+            (
+                "# edmd boundary periodic\n# edmd gravity y -1\n",
+                "line 3: gravity: the field's axis y must have walls",
+            ),
+            (
+                "# edmd gravity y -1\n# edmd potential 0 0 1.5 -1\n",
+                "line 2: gravity does not go with a stepped potential (line 3)",
+            ),
+            (
+                "# edmd gravity y -1\n# edmd restitution 0.5\n",
+                "line 2: gravity with inelastic collisions needs the TC model",
             ),
         ] {
             let text = format!("1\n{bad}.5 .5 0 0 .1 1 0 0 0\n");

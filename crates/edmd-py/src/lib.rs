@@ -1610,6 +1610,7 @@ fn render(inner: &Inner, kind: &str, path: &Path) -> PyResult<Vec<u8>> {
                         potential: s.sim.potential().unwrap_or(&hard),
                         reactions: s.sim.reactions().map_or(&[], |r| &r.rules),
                         restitution: s.sim.restitution(),
+                        gravity: s.sim.gravity(),
                     };
                     edmd_io::write_full(&mut w, &discs, s.sim.sim_box(), s.sim.barriers(), interactions, fmt, s.sim.time())
                         .map_err(io_error)?
@@ -1827,6 +1828,7 @@ fn _generate(
         well,
         shoulder,
         depth,
+        gravity: None,
     };
     // `edmd gen`'s messages, with the Python argument names instead of its flags.
     let message = |e: anyhow::Error| {

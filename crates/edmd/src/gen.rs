@@ -168,6 +168,11 @@ pub struct GenArgs {
     /// Depth of the well or height of the shoulder (default 1).
     #[arg(long, value_name = "E", allow_negative_numbers = true)]
     pub depth: Option<f64>,
+    /// A uniform field of acceleration G along the last axis (y in 2D, z in 3D; negative
+    /// pulls towards 0), written as '# edmd gravity y G' (or z). That axis gets walls; the
+    /// others keep --boundary (for fluid and mixture, periodic unless walls are asked for).
+    #[arg(long, value_name = "G", allow_negative_numbers = true)]
+    pub gravity: Option<f64>,
 }
 
 impl GenArgs {
@@ -242,10 +247,26 @@ pub fn run(cmd: &GenCommand) -> Result<()> {
     let restitution = restitution_of(args, &cmd.chemistry, &cmd.restitution)?;
     let (generated, rules) = make_with(args, &cmd.chemistry)?;
     let potential = args.potential_of(&generated)?;
+    let gravity = gravity_of(args, &generated)?;
+    if let (Some(g), Some(r)) = (gravity, &restitution) {
+        if r.tc <= 0.0 && !r.is_elastic() {
+            return user_error(format!(
+                "gen {}: inelastic collisions in a field need the TC model: add --restitution 'tc T' (T > 0), or grains coming to rest on the floor would collide infinitely often in a finite time (--gravity {})",
+                args.kind, g.g
+            ));
+        }
+        if r.wall == 0.0 {
+            return user_error(format!(
+                "gen {}: in a field the walls' restitution must be above 0 (--restitution 'walls 0'): a disc stopped dead at the floor would meet it again at once",
+                args.kind
+            ));
+        }
+    }
     let interactions = Interactions {
         potential: &potential,
         reactions: &rules,
         restitution: restitution.as_ref(),
+        gravity,
     };
     match generated {
         Generated::Two(system, format) => write_system(&system, interactions, format, args),
@@ -415,6 +436,76 @@ fn assign_species<const D: usize>(discs: &mut [edmd_core::Disc<D>], fractions: &
 /// Validates the options and generates the system `edmd gen` would write (`args.output` is not
 /// used). The Python package calls this too, so both make the same system from the same seed.
 pub fn make(args: &GenArgs) -> Result<Generated> {
+    let generated = make_in_box(args)?;
+    if args.gravity.is_none() {
+        return Ok(generated);
+    }
+    // Made between walls on every axis (`apply`), so that turning the sideways axes periodic
+    // keeps every disc clear of the others' images.
+    let sideways = match args.boundary {
+        Some(BoundaryArg::Walls) => Boundary::Walls,
+        _ => Boundary::Periodic,
+    };
+    let fluid = matches!(args.kind.as_str(), "fluid" | "mixture");
+    let open = |bx: &mut edmd_core::SimBox<2>| {
+        if fluid {
+            bx.boundaries[0] = sideways;
+        }
+    };
+    let open3 = |bx: &mut edmd_core::SimBox<3>| {
+        if fluid {
+            bx.boundaries[0] = sideways;
+            bx.boundaries[1] = sideways;
+        }
+    };
+    Ok(match generated {
+        Generated::Two(mut s, f) => {
+            open(&mut s.sim_box);
+            Generated::Two(s, f)
+        }
+        Generated::Three(mut s) => {
+            open3(&mut s.sim_box);
+            Generated::Three(s)
+        }
+    })
+}
+
+/// The field `--gravity` asks for, along the last axis of `generated` (which has walls there:
+/// [`make`]), checked; `None` without it.
+pub fn gravity_of(args: &GenArgs, generated: &Generated) -> Result<Option<edmd_core::Gravity>> {
+    let Some(g) = args.gravity else {
+        return Ok(None);
+    };
+    let name = &args.kind;
+    if args.course {
+        return user_error(format!(
+            "gen {name}: the course format has no place for a field (--course with --gravity)"
+        ));
+    }
+    if args.well.is_some() || args.shoulder.is_some() {
+        return user_error(format!(
+            "gen {name}: --gravity does not go with --well or --shoulder"
+        ));
+    }
+    let (dim, walled) = match generated {
+        Generated::Two(s, _) => (2, !s.sim_box.is_periodic(1)),
+        Generated::Three(s) => (3, !s.sim_box.is_periodic(2)),
+    };
+    let field = edmd_core::Gravity { axis: dim - 1, g };
+    field
+        .validate(dim)
+        .or_else(|e| user_error(format!("gen {name}: --gravity {g}: {e}")))?;
+    if !walled {
+        return user_error(format!(
+            "gen {name}: --gravity needs walls along {}",
+            ["x", "y", "z"][dim - 1]
+        ));
+    }
+    Ok(Some(field))
+}
+
+/// [`make`] without the field's box.
+fn make_in_box(args: &GenArgs) -> Result<Generated> {
     let Ok(mut kind) = GenKind::from_name(&args.kind) else {
         return user_error(format!(
             "gen: unknown kind '{}' (one of: {})",
@@ -664,6 +755,9 @@ fn apply(kind: &mut GenKind, a: &GenArgs) -> Result<()> {
             set!("n", n, k.n);
             set!("packing", a.packing, k.packing);
             set!("boundary", boundary, k.boundary);
+            if a.gravity.is_some() {
+                k.boundary = Boundary::Walls;
+            }
             // Applied to the velocities after the fluid is made (`at_kt`).
             if a.kt.is_some() {
                 used.push("kt");
@@ -673,6 +767,9 @@ fn apply(kind: &mut GenKind, a: &GenArgs) -> Result<()> {
             set!("n", n, k.n);
             set!("packing", a.packing, k.packing);
             set!("boundary", boundary, k.boundary);
+            if a.gravity.is_some() {
+                k.boundary = Boundary::Walls;
+            }
             if let Some(spread) = a.spread {
                 k.sizes = Sizes::Polydisperse { spread };
                 used.push("spread");

@@ -222,6 +222,7 @@ pub fn build_seeded<const D: usize>(
 ) -> Result<Simulation<D>> {
     let mut sim = build_hard(path, sys, options, true)?;
     set_reactions(path, sys, &mut sim, seed)?;
+    set_gravity(path, sys, &mut sim)?;
     set_restitution(path, sys, &mut sim)?;
     Ok(sim)
 }
@@ -236,6 +237,7 @@ pub fn build_with_hint<const D: usize>(
 ) -> Result<Simulation<D>> {
     let mut sim = build_hard(path, sys, options, allow_overlaps_option)?;
     set_reactions(path, sys, &mut sim, DEFAULT_SEED)?;
+    set_gravity(path, sys, &mut sim)?;
     set_restitution(path, sys, &mut sim)?;
     Ok(sim)
 }
@@ -280,6 +282,20 @@ pub fn set_restitution<const D: usize>(
             "{path}: {e} (the file's '# edmd restitution' lines)"
         ))
     })
+}
+
+/// Puts `sim`, built from `sys`, in the file's field (nothing without one). A field with
+/// multi-disc collisions is refused in one line naming the file.
+pub fn set_gravity<const D: usize>(
+    path: &str,
+    sys: &LoadedSystem<D>,
+    sim: &mut Simulation<D>,
+) -> Result<()> {
+    if sys.gravity.is_none() {
+        return Ok(());
+    }
+    sim.set_gravity(sys.gravity)
+        .or_else(|e| user_error(format!("{path}: {e} (the file's '# edmd gravity' line)")))
 }
 
 /// The simulation of the discs, box, barriers and potential of `sys`, without its reactions.

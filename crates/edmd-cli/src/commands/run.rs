@@ -518,6 +518,7 @@ fn execute<const D: usize>(
         potential: sim.potential().unwrap_or(hard.potential),
         reactions: sim.reactions().map_or(hard.reactions, |r| &r.rules),
         restitution: sim.restitution(),
+        gravity: sim.gravity(),
     };
     let write_state = |mut w: &mut dyn Write| {
         edmd_io::write_full(
