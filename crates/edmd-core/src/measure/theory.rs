@@ -338,3 +338,243 @@ pub fn haff_time(dim: usize, e: f64, omega0: f64) -> f64 {
 pub fn haff_temperature(t: f64, kt0: f64, t0: f64) -> f64 {
     kt0 / ((1.0 + t / t0) * (1.0 + t / t0))
 }
+
+/// The first Sonine coefficient `a2` (the fourth cumulant) of the velocity distribution of
+/// smooth hard discs (`dim` 2) or spheres (3) cooling homogeneously with restitution `e`,
+/// `f = f_Maxwell (1 + a2 S2(c^2))`:
+/// `a2 = 16 (1 - e)(1 - 2e^2) / (9 + 24 dim - e (41 - 8 dim) + 30 e^2 (1 - e))`
+/// (T. P. C. van Noije and M. H. Ernst, Granular Matter 1, 57 (1998)), the linearised
+/// condition that the fourth moment decays at twice the rate of the second. It is 0 for
+/// `e = 1` and `e = 1/sqrt(2)`, and below 0.1 in size for `e >= 0.5`.
+pub fn sonine_a2(dim: usize, e: f64) -> f64 {
+    let d = dim as f64;
+    16.0 * (1.0 - e) * (1.0 - 2.0 * e * e)
+        / (9.0 + 24.0 * d - e * (41.0 - 8.0 * d) + 30.0 * e * e * (1.0 - e))
+}
+
+/// Haff's time with the Sonine correction, `t0 = 2 dim / ((1 - e^2)(1 + 3 a2 / 16) omega0)`
+/// ([`haff_time`] over `1 + 3 a2 / 16`, [`sonine_a2`]), `omega0` the collision frequency per
+/// particle of a Maxwellian gas at `T0` ([`enskog_collision_frequency_in`]). Averaging the
+/// energy lost per collision, `|g.n|^3`, over the Sonine-corrected distribution multiplies it by
+/// `1 + 3 a2 / 16` in any dimension (the cooling rate `zeta*` of V. Garzó and J. W. Dufty,
+/// Phys. Rev. E 59, 5895 (1999); for spheres, N. V. Brilliantov and T. Pöschel, *Kinetic
+/// Theory of Granular Gases* (2004)).
+pub fn haff_time_sonine(dim: usize, e: f64, omega0: f64) -> f64 {
+    haff_time(dim, e, omega0) / (1.0 + 3.0 * sonine_a2(dim, e) / 16.0)
+}
+
+/// How fast the temperature falls per collision in the homogeneous cooling state:
+/// `-d ln T / d tau` with `tau` the collisions per particle (twice the collisions over `N`),
+/// `(1 - e^2)(1 + 3 a2 / 16) / (dim (1 - a2 / 16))`. Each collision loses `(1 - e^2) T` on
+/// average for Maxwellian velocities, times `1 + 3 a2 / 16` with the Sonine correction, while
+/// the collision rate, an average of `|g.n|`, is multiplied by `1 - a2 / 16`. So
+/// `T(tau) = T0 exp(-rate tau)` whatever the density, while Haff's law holds.
+pub fn haff_decay_per_collision(dim: usize, e: f64) -> f64 {
+    let a2 = sonine_a2(dim, e);
+    (1.0 - e * e) * (1.0 + 3.0 * a2 / 16.0) / (dim as f64 * (1.0 - a2 / 16.0))
+}
+
+/// The shear viscosity of a dilute elastic gas of hard discs or spheres of diameter `sigma`
+/// and mass `m` at `kt` in Boltzmann's first Sonine approximation,
+/// `eta0 = ((dim + 2) / 8) Gamma(dim / 2) pi^((1 - dim) / 2) sigma^(1 - dim) sqrt(m kT)`:
+/// `(5 / 16) sqrt(m kT / pi) / sigma^2` for spheres (Chapman and Cowling, *The Mathematical
+/// Theory of Non-Uniform Gases* (1970), section 10.21), `(1 / 2) sqrt(m kT / pi) / sigma`
+/// for discs (Gass, J. Chem. Phys. 54, 1898 (1971)). The unit of [`granular_viscosity`].
+pub fn boltzmann_viscosity(dim: usize, sigma: f64, kt: f64, m: f64) -> f64 {
+    let root = (m * kt / PI).sqrt();
+    if dim == 3 {
+        5.0 / 16.0 * root / (sigma * sigma)
+    } else {
+        0.5 * root / sigma
+    }
+}
+
+/// The cooling rate of a granular fluid at packing fraction `eta` in the Enskog theory,
+/// reduced by `nu0 = n kT / eta0` ([`boltzmann_viscosity`]):
+/// `zeta* = ((dim + 2) / (4 dim)) g(sigma) (1 - e^2)(1 + 3 a2 / 16)` (Garzó and Dufty, Phys.
+/// Rev. E 59, 5895 (1999)), with the contact value `g` of [`contact_value`] and `a2` of
+/// [`sonine_a2`]. Multiplied out, `zeta = (1 - e^2)(1 + 3 a2 / 16) omega / dim` with
+/// Enskog's `omega` ([`enskog_collision_frequency_in`]), the rate of [`haff_time_sonine`]:
+/// `zeta = 2 / t0` at the start.
+pub fn granular_cooling_rate(dim: usize, e: f64, eta: f64) -> f64 {
+    let d = dim as f64;
+    (d + 2.0) / (4.0 * d)
+        * contact_value(eta, dim)
+        * (1.0 - e * e)
+        * (1.0 + 3.0 * sonine_a2(dim, e) / 16.0)
+}
+
+/// The shear viscosity of a granular fluid of smooth hard discs (`dim` 2) or spheres (3) with
+/// restitution `e` at packing fraction `eta`, reduced by the dilute elastic gas's
+/// ([`boltzmann_viscosity`]), in the Enskog theory's first Sonine approximation of Garzó and
+/// Dufty (Phys. Rev. E 59, 5895 (1999), with Garzó, Phys. Rev. E 72, 021106 (2005)):
+///
+/// `eta* = [1 - 2^(dim-2)/(dim+2) (1+e)(1-3e) eta g] [1 + 2^(dim-1)/(dim+2) eta g (1+e)]
+///  / (nu* - zeta*/2) + dim/(dim+2) gamma*`,
+///
+/// with `nu* = 3/(4 dim) g (1 - e + 2 dim/3)(1 + e)(1 + 7 a2/16)`, `zeta*` of
+/// [`granular_cooling_rate`] and the collisional (bulk-viscosity-like) part
+/// `gamma* = 2^(2 dim+1)/(pi (dim+2)) eta^2 g (1 + e)(1 - a2/16)`. For `e = 1` it is Enskog's
+/// viscosity: `1/g + 16 eta/5 + (64/25)(1 + 12/pi) eta^2 g` for spheres (Chapman and Cowling
+/// (1970), section 16.41, without their factor 1.016 of higher Sonine orders) and
+/// `1/g + 2 eta + (1 + 8/pi) eta^2 g` for discs (Gass 1971). The `a2` factor in `nu*` differs
+/// between Sonine schemes (Garzó, Santos and Montanero, Physica A 376, 94 (2007)), which moves
+/// the critical length of [`critical_length`] by under 1% for `e >= 0.8`.
+pub fn granular_viscosity(dim: usize, e: f64, eta: f64) -> f64 {
+    let d = dim as f64;
+    let g = contact_value(eta, dim);
+    let a2 = sonine_a2(dim, e);
+    let zeta = granular_cooling_rate(dim, e, eta);
+    let nu = 3.0 / (4.0 * d) * g * (1.0 - e + 2.0 * d / 3.0) * (1.0 + e) * (1.0 + 7.0 * a2 / 16.0);
+    let gamma = 2f64.powi(2 * dim as i32 + 1) / (PI * (d + 2.0))
+        * eta
+        * eta
+        * g
+        * (1.0 + e)
+        * (1.0 - a2 / 16.0);
+    let pd = 2f64.powi(dim as i32 - 2) / (d + 2.0);
+    (1.0 - pd * (1.0 + e) * (1.0 - 3.0 * e) * eta * g) * (1.0 + 2.0 * pd * eta * g * (1.0 + e))
+        / (nu - zeta / 2.0)
+        + d / (d + 2.0) * gamma
+}
+
+/// The critical size `L_c` (in diameters) of a periodic square or cubic box beyond which the
+/// homogeneous cooling state of a granular fluid (restitution `e`, packing fraction `eta`) is
+/// unstable to shear (vortex) modes. In linear hydrodynamics a transverse velocity mode of
+/// wavenumber `k` decays as `exp(-nu k^2 t)` (`nu = eta_s / (m n)` the kinematic viscosity)
+/// while the thermal speed decays at `zeta / 2`, so relative to it the mode grows where
+/// `k^2 < k_c^2 = m n zeta / (2 eta_s)`; the box's longest wave is `2 pi / L`, stable for
+/// `L < L_c = 2 pi / k_c` (Goldhirsch and Zanetti, Phys. Rev. Lett. 70, 1619 (1993); van Noije,
+/// Ernst, Brito and Orza, Phys. Rev. Lett. 79, 411 (1997); Garzó, Phys. Rev. E 72, 021106
+/// (2005)). With the Enskog coefficients of [`granular_viscosity`] and
+/// [`granular_cooling_rate`]:
+/// `L_c = (dim + 2) pi^(3/2) / (2^(dim+1) dim eta) sqrt(2 eta* / zeta*)`, infinite at `e = 1`,
+/// and `1.271 / (eta sqrt(1 - e^2))` for dilute spheres near `e = 1`.
+pub fn critical_length(dim: usize, e: f64, eta: f64) -> f64 {
+    let d = dim as f64;
+    let zeta = granular_cooling_rate(dim, e, eta);
+    if zeta <= 0.0 {
+        return f64::INFINITY;
+    }
+    (d + 2.0) * PI.powf(1.5) / (2f64.powi(dim as i32 + 1) * d * eta)
+        * (2.0 * granular_viscosity(dim, e, eta) / zeta).sqrt()
+}
+
+/// The transverse current of a shear mode in the homogeneous cooling state, relative to its
+/// equilibrium value, after `tau` collisions per particle: `y = <|J_perp(k)|^2> / (N kT / m)`
+/// per polarisation, starting from an elastic fluid (`y = 1`), for a mode with
+/// `x = (k / k_c)^2` (`(L_c / L)^2` for the box's longest wave, [`critical_length`]):
+/// `y = (exp(r (1 - x) tau) - x) / (1 - x)`, `r` of [`haff_decay_per_collision`].
+///
+/// Fluctuating hydrodynamics (van Noije, Ernst, Brito and Orza, Phys. Rev. Lett. 79, 411
+/// (1997)): the scaled amplitude grows at `zeta - 2 nu k^2` while the noise, at the local
+/// temperature, feeds it at `2 nu k^2`; per collision `dy/dtau = r ((1 - x) y + x)`. Below the
+/// critical size (`x > 1`) `y` settles at `x / (x - 1)`; above, it grows exponentially.
+pub fn shear_mode_growth(dim: usize, e: f64, x: f64, tau: f64) -> f64 {
+    let r = haff_decay_per_collision(dim, e);
+    if (1.0 - x).abs() < 1e-12 {
+        return 1.0 + r * tau;
+    }
+    (((1.0 - x) * r * tau).exp() - x) / (1.0 - x)
+}
+
+#[cfg(test)]
+mod granular_tests {
+    use super::*;
+
+    #[test]
+    fn sonine_a2_vanishes_when_elastic_and_solves_the_moment_condition() {
+        for dim in [2, 3] {
+            assert_eq!(sonine_a2(dim, 1.0), 0.0);
+            assert!(sonine_a2(dim, 0.5f64.sqrt()).abs() < 1e-15);
+        }
+        // Spheres: the linearised condition mu4 = 5 mu2 (1 + a2) with the collision moments
+        // (per mu20 = 1) mu21 = 3/16, mu40 = 9/2 + e^2, mu41 = 3 (69 + 10 e^2)/32 + 2/(1 - e)
+        // gives a2 = (mu40 - 5) / (5 (1 + mu21) - mu41), the formula's value.
+        for e in [0.3, 0.5, 0.8, 0.9, 0.95] {
+            let (mu21, mu40) = (3.0 / 16.0, 4.5 + e * e);
+            let mu41 = 3.0 * (69.0 + 10.0 * e * e) / 32.0 + 2.0 / (1.0 - e);
+            let a2 = (mu40 - 5.0) / (5.0 * (1.0 + mu21) - mu41);
+            assert!((sonine_a2(3, e) - a2).abs() < 1e-14, "{e}");
+        }
+        // Published values at e = 0.9: -0.0146 (spheres), -0.0269 (discs).
+        assert!((sonine_a2(3, 0.9) + 0.01456).abs() < 1e-5);
+        assert!((sonine_a2(2, 0.9) + 0.02686).abs() < 1e-5);
+    }
+
+    #[test]
+    fn haff_times_with_and_without_a2_and_the_decay_per_collision_agree() {
+        for dim in [2, 3] {
+            let (e, omega) = (0.8, 1.7);
+            let a2 = sonine_a2(dim, e);
+            let t0 = haff_time_sonine(dim, e, omega);
+            assert!((t0 * (1.0 + 3.0 * a2 / 16.0) - haff_time(dim, e, omega)).abs() < 1e-12);
+            // ln T falls by 2 ln(1 + t/t0) while tau grows by omega_HCS t0 ln(1 + t/t0), with
+            // the HCS rate omega (1 - a2/16): their ratio is the decay per collision.
+            let per = 2.0 / (omega * (1.0 - a2 / 16.0) * t0);
+            assert!((per - haff_decay_per_collision(dim, e)).abs() < 1e-12);
+            // The Enskog cooling rate is (1 - e^2)(1 + 3 a2/16) omega / dim in units of
+            // nu0 = n kT / eta0.
+            let eta = 0.2;
+            let omega = enskog_collision_frequency_in(eta, 1.0, 1.0, 1.0, dim);
+            let nu0 = number_density_in(eta, 1.0, dim) / boltzmann_viscosity(dim, 1.0, 1.0, 1.0);
+            let zeta = (1.0 - e * e) * (1.0 + 3.0 * a2 / 16.0) * omega / dim as f64;
+            assert!((granular_cooling_rate(dim, e, eta) * nu0 / zeta - 1.0).abs() < 1e-12);
+        }
+    }
+
+    #[test]
+    fn the_elastic_limit_of_the_granular_viscosity_is_enskogs() {
+        for eta in [0.01, 0.1, 0.3, 0.45] {
+            let g = contact_value(eta, 3);
+            let enskog =
+                1.0 / g + 16.0 * eta / 5.0 + 64.0 / 25.0 * (1.0 + 12.0 / PI) * eta * eta * g;
+            assert!(
+                (granular_viscosity(3, 1.0, eta) / enskog - 1.0).abs() < 1e-12,
+                "{eta}"
+            );
+            let g = contact_value(eta, 2);
+            let gass = 1.0 / g + 2.0 * eta + (1.0 + 8.0 / PI) * eta * eta * g;
+            assert!(
+                (granular_viscosity(2, 1.0, eta) / gass - 1.0).abs() < 1e-12,
+                "{eta}"
+            );
+        }
+        // The dilute limit is Boltzmann's: 1 (with inelasticity, 1/(nu* - zeta*/2)).
+        assert!((granular_viscosity(3, 1.0, 1e-6) - 1.0).abs() < 1e-5);
+    }
+
+    #[test]
+    fn the_critical_length_has_its_limits() {
+        assert!(critical_length(2, 1.0, 0.1).is_infinite());
+        // Dilute, nearly elastic: eta* = 1 and zeta* = (dim + 2)(1 - e^2)/(4 dim), so
+        // L_c eta sqrt(1 - e^2) = (dim+2) pi^1.5 / (2^(dim+1) dim) sqrt(8 dim / (dim + 2)):
+        // 1.2708 for spheres, 2.7842 for discs.
+        let e: f64 = 0.9999;
+        let eta = 1e-6;
+        for (dim, want) in [(3, 1.2708), (2, 2.7842)] {
+            let got = critical_length(dim, e, eta) * eta * (1.0 - e * e).sqrt();
+            assert!((got - want).abs() < 1e-3, "{dim}: {got}");
+        }
+        // Denser, more inelastic: smaller. Discs at 0.1 and e = 0.9: about 62 diameters.
+        assert!(critical_length(2, 0.9, 0.2) < critical_length(2, 0.9, 0.1));
+        assert!(critical_length(2, 0.8, 0.1) < critical_length(2, 0.9, 0.1));
+        assert!((critical_length(2, 0.9, 0.1) - 61.9).abs() < 0.1);
+    }
+
+    #[test]
+    fn the_shear_mode_grows_above_the_critical_size_and_settles_below() {
+        let r = haff_decay_per_collision(2, 0.9);
+        assert_eq!(shear_mode_growth(2, 0.9, 0.5, 0.0), 1.0);
+        // Below: settles at x / (x - 1).
+        assert!((shear_mode_growth(2, 0.9, 2.0, 1e4) - 2.0).abs() < 1e-12);
+        // Above: the rate r (1 - x), and at x = 1 the linear growth r tau.
+        let (a, b) = (
+            shear_mode_growth(2, 0.9, 0.25, 100.0),
+            shear_mode_growth(2, 0.9, 0.25, 101.0),
+        );
+        assert!(((b / a).ln() - 0.75 * r).abs() < 1e-3);
+        assert!((shear_mode_growth(2, 0.9, 1.0, 10.0) - (1.0 + 10.0 * r)).abs() < 1e-12);
+        assert!((shear_mode_growth(2, 0.9, 1.0 + 1e-9, 10.0) - (1.0 + 10.0 * r)).abs() < 1e-6);
+    }
+}

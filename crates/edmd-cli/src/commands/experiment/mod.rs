@@ -5,6 +5,7 @@ pub mod annihilation;
 pub mod billiards;
 pub mod brownian;
 pub mod common;
+pub mod cooling;
 pub mod demon;
 pub mod diffusion;
 pub mod eos;
@@ -30,6 +31,9 @@ pub enum Experiment {
     Billiards(billiards::BilliardsArgs),
     /// Brownian motion: the path and mean square displacement of one big disc among small ones.
     Brownian(brownian::BrownianArgs),
+    /// A granular gas cooling: T(t) against Haff's law with t0 from Enskog's collision
+    /// frequency, until the shear instability of boxes wider than the critical size L_c.
+    Cooling(cooling::CoolingArgs),
     /// Maxwell's demon: a door that sorts fast from slow discs; the temperature of each side.
     Demon(demon::DemonArgs),
     /// Two gases mixing after the partition between them is removed.
@@ -72,6 +76,7 @@ pub fn run(which: &Experiment) -> Result<()> {
         Experiment::Annihilation(a) => annihilation::run(a),
         Experiment::Billiards(a) => billiards::run(a),
         Experiment::Brownian(a) => brownian::run(a),
+        Experiment::Cooling(a) => cooling::run(a),
         Experiment::Demon(a) => demon::run(a),
         Experiment::Diffusion(a) => diffusion::run(a),
         Experiment::Eos(a) => eos::run(a),
