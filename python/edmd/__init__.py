@@ -28,7 +28,10 @@ Contents:
   ``set_restitution(0.9)`` (a coefficient of normal restitution per pair of species and at
   the walls, constant or Bridges' law, and the TC model; or ``from_arrays(restitution=...)``,
   ``gen.fluid(restitution=...)``, a file's ``# edmd restitution`` lines), read back as
-  ``restitution``, with the kinetic energy lost in ``dissipated``.
+  ``restitution``, with the kinetic energy lost in ``dissipated``; a uniform field with
+  ``set_gravity(-9.81)`` (along the last axis, or ``axis="x"``; or ``from_arrays(gravity=...)``,
+  ``gen.fluid(gravity=...)``, a file's ``# edmd gravity`` line), read back as ``gravity``, with
+  its energy in ``field_energy`` (part of ``potential_energy``).
 - :mod:`edmd.gen`: the generators of ``edmd gen`` (fluids, mixtures, the Princeton data sets).
 - :func:`pack`: the compression of ``edmd pack`` (Lubachevsky-Stillinger) to a jammed packing
   or to a packing fraction; returns ``(sim, summary)``: the packing as a :class:`Simulation`

@@ -5,9 +5,11 @@ Each function takes the options ``edmd gen KIND`` takes for that kind (as keywor
 system as ``edmd gen KIND --seed S``, bit for bit. Bad values raise ``ValueError`` with the
 command's message. ``rule`` ("elastic" or "swap") and ``multi`` are the run options of the
 simulation returned; ``restitution`` (every kind) makes its collisions inelastic, as
-``Simulation.set_restitution`` takes it (``edmd gen KIND --restitution ...``). A value of the
-wrong type (a str for a number, a bool or a float for a count) raises ``TypeError`` naming the
-argument.
+``Simulation.set_restitution`` takes it (``edmd gen KIND --restitution ...``); ``gravity=G``
+(every kind) puts the system in a uniform field of acceleration ``G`` along the last axis (y in
+2D, z in 3D; negative pulls towards 0), which then has walls (``edmd gen KIND --gravity G``;
+fluids and mixtures keep periodic sides unless ``boundary="walls"``). A value of the wrong type
+(a str for a number, a bool or a float for a count) raises ``TypeError`` naming the argument.
 
 Example::
 
@@ -16,6 +18,7 @@ Example::
     sim = edmd.gen.mixture(n=400, size_ratio=1.4, fraction_large=0.5, seed=3)
     sim = edmd.gen.fluid(n=500, packing=0.3, well=1.5, seed=4)   # a square-well fluid
     sim = edmd.gen.fluid(n=500, packing=0.3, restitution=0.9, seed=5)   # a granular gas
+    sim = edmd.gen.fluid(n=500, packing=0.3, gravity=-1.0, seed=6)      # a column in a field
 """
 
 from edmd import _check
@@ -23,7 +26,8 @@ from edmd._edmd import _generate as _compiled_generate
 
 # The options whose values are numbers, whole numbers, text and flags (`edmd gen`'s).
 _REAL = ("radius", "speed", "mass", "kt", "packing", "angle", "impact", "region", "big_radius",
-         "big_mass", "size_ratio", "fraction_large", "spread", "well", "shoulder", "depth")
+         "big_mass", "size_ratio", "fraction_large", "spread", "well", "shoulder", "depth",
+         "gravity")
 
 
 def _generate(kind, **options):
@@ -68,77 +72,81 @@ __all__ = [
 ]
 
 
-def single(*, radius=None, speed=None, mass=None, seed=1, rule="elastic", restitution=None):
+def single(*, radius=None, speed=None, mass=None, seed=1, rule="elastic", restitution=None,
+           gravity=None):
     """One disc bouncing in the unit box with walls (``edmd gen single``)."""
     return _generate("single", seed=seed, radius=radius, speed=speed, mass=mass, rule=rule,
-                     restitution=restitution)
+                     restitution=restitution, gravity=gravity)
 
 
-def head_on(*, radius=None, speed=None, mass=None, seed=1, rule="elastic", restitution=None):
+def head_on(*, radius=None, speed=None, mass=None, seed=1, rule="elastic", restitution=None,
+            gravity=None):
     """Two discs meeting head-on (``edmd gen head-on``)."""
     return _generate("head-on", seed=seed, radius=radius, speed=speed, mass=mass, rule=rule,
-                     restitution=restitution)
+                     restitution=restitution, gravity=gravity)
 
 
 def angled(*, radius=None, speed=None, mass=None, angle=None, impact=None, seed=1, rule="elastic",
-           restitution=None):
+           restitution=None, gravity=None):
     """Two discs whose paths cross at ``angle`` degrees with impact parameter ``impact`` (a
     fraction of the contact distance) (``edmd gen angled``)."""
     return _generate(
         "angled", seed=seed, radius=radius, speed=speed, mass=mass, angle=angle,
-        impact=impact, rule=rule, restitution=restitution,
+        impact=impact, rule=rule, restitution=restitution, gravity=gravity,
     )
 
 
-def one_red(*, n=None, radius=None, speed=None, seed=1, rule="elastic", restitution=None):
+def one_red(*, n=None, radius=None, speed=None, seed=1, rule="elastic", restitution=None,
+            gravity=None):
     """A crowd of ``n`` discs and one red one (``edmd gen one-red``)."""
     return _generate("one-red", seed=seed, n=n, radius=radius, speed=speed, rule=rule,
-                     restitution=restitution)
+                     restitution=restitution, gravity=gravity)
 
 
 def lattice(*, n=None, radius=None, mass=None, kt=None, seed=1, rule="elastic",
-            restitution=None):
+            restitution=None, gravity=None):
     """``n`` discs on a lattice with thermal velocities at temperature ``kt``
     (``edmd gen lattice``)."""
     return _generate("lattice", seed=seed, n=n, radius=radius, mass=mass, kt=kt, rule=rule,
-                     restitution=restitution)
+                     restitution=restitution, gravity=gravity)
 
 
 def diffusion1(*, n=None, radius=None, speed=None, region=None, seed=1, rule="elastic",
-               restitution=None):
+               restitution=None, gravity=None):
     """``n`` discs starting in a central square of side ``region`` (``edmd gen diffusion1``)."""
     return _generate(
         "diffusion1", seed=seed, n=n, radius=radius, speed=speed, region=region, rule=rule,
-        restitution=restitution,
+        restitution=restitution, gravity=gravity,
     )
 
 
 def diffusion2(*, n=None, radius=None, mass=None, kt=None, seed=1, rule="elastic",
-               restitution=None):
+               restitution=None, gravity=None):
     """Two species, ``n`` discs each, starting on either side of the box
     (``edmd gen diffusion2``)."""
     return _generate("diffusion2", seed=seed, n=n, radius=radius, mass=mass, kt=kt, rule=rule,
-                     restitution=restitution)
+                     restitution=restitution, gravity=gravity)
 
 
-def dense(*, n=None, packing=None, mass=None, kt=None, seed=1, rule="elastic", restitution=None):
+def dense(*, n=None, packing=None, mass=None, kt=None, seed=1, rule="elastic", restitution=None,
+          gravity=None):
     """A dense system of ``n`` discs at packing fraction ``packing`` (``edmd gen dense``)."""
     return _generate("dense", seed=seed, n=n, packing=packing, mass=mass, kt=kt, rule=rule,
-                     restitution=restitution)
+                     restitution=restitution, gravity=gravity)
 
 
 def brownian(*, n=None, radius=None, mass=None, big_radius=None, big_mass=None, kt=None,
-             seed=1, rule="elastic", restitution=None):
+             seed=1, rule="elastic", restitution=None, gravity=None):
     """A big disc among ``n`` small ones (``edmd gen brownian``)."""
     return _generate(
         "brownian", seed=seed, n=n, radius=radius, mass=mass, big_radius=big_radius,
-        big_mass=big_mass, kt=kt, rule=rule, restitution=restitution,
+        big_mass=big_mass, kt=kt, rule=rule, restitution=restitution, gravity=gravity,
     )
 
 
 def fluid(*, n=None, packing=None, dim=2, boundary=None, well=None, shoulder=None, depth=None,
           kt=None, seed=1, rule="elastic", multi=False, species=None, reactions=None,
-          restitution=None):
+          restitution=None, gravity=None):
     """A melted fluid of ``n`` equal discs (``dim=2``) or spheres (``dim=3``) at packing
     fraction ``packing``, with "periodic" (default) or "walls" ``boundary``
     (``edmd gen fluid``).
@@ -163,27 +171,34 @@ def fluid(*, n=None, packing=None, dim=2, boundary=None, well=None, shoulder=Non
     ``edmd gen fluid --restitution ...``); it does not go with a well, a shoulder or reaction
     rules. Every generator takes it.
 
+    ``gravity=G`` puts the fluid in a uniform field of acceleration ``G`` along the last axis
+    (``edmd gen fluid --gravity G``): that axis gets walls, the others stay periodic unless
+    ``boundary="walls"``; ``sim.gravity`` is then ``{"axis": dim - 1, "g": G}``. It does not go
+    with a well or a shoulder, and inelastic collisions in a field need the TC model
+    (``restitution={..., "tc": t}``, t > 0). Every generator takes it.
+
     >>> sim = edmd.gen.fluid(n=1000, packing=0.5, seed=1)
     >>> sw = edmd.gen.fluid(n=500, packing=0.3, well=1.5, kt=1.2, seed=1)
     >>> ab = edmd.gen.fluid(n=1000, packing=0.3, species=(0.5, 0.5),
     ...                     reactions=["0 + 1 -> 2 + 2 activation 1"], seed=1)
     >>> granular = edmd.gen.fluid(n=1000, packing=0.3, boundary="walls", seed=1,
     ...                           restitution={"all": 0.9, "walls": 0.8, "tc": 1e-4})
+    >>> column = edmd.gen.fluid(n=1000, packing=0.3, gravity=-1.0, seed=1)
     """
     return _generate(
         "fluid", dim=dim, seed=seed, n=n, packing=packing, boundary=boundary, well=well,
         shoulder=shoulder, depth=depth, kt=kt, rule=rule, multi=multi, species=species,
-        reactions=reactions, restitution=restitution,
+        reactions=reactions, restitution=restitution, gravity=gravity,
     )
 
 
 def mixture(*, n=None, packing=None, dim=2, boundary=None, size_ratio=None,
             fraction_large=None, spread=None, seed=1, rule="elastic", multi=False,
-            restitution=None):
+            restitution=None, gravity=None):
     """A melted mixture: binary (``size_ratio`` large/small diameters, ``fraction_large`` by
     number) or polydisperse (diameters uniform in 1 +- ``spread``) (``edmd gen mixture``)."""
     return _generate(
         "mixture", dim=dim, seed=seed, n=n, packing=packing, boundary=boundary,
         size_ratio=size_ratio, fraction_large=fraction_large, spread=spread, rule=rule,
-        multi=multi, restitution=restitution,
+        multi=multi, restitution=restitution, gravity=gravity,
     )

@@ -118,6 +118,11 @@ def from_arrays_cases(tmp):
                        ["0 + 0 -> 1 + 1", "0 + 0 -> 2 + 2"], {"seed": 1},
                        {"rules": ["0 + 0 -> 1 + 1"], "seed": -1}],
          lambda v: pair(reactions=v)),
+        ("restitution", RESTITUTION_HOSTILE, lambda v: pair(restitution=v)),
+        # -1.0 is refused for the box's periodic axes.
+        ("gravity", [-1.0, 0, NAN, INF, "1", True, 1 + 1j, [1.0], {"g": 0}, {"g": "1"},
+                     {"axis": 5, "g": 1.0}, {"axis": "w", "g": 1.0}, {"axis": 1}, {"x": 1}],
+         lambda v: pair(gravity=v)),
     ]
 
 
@@ -144,6 +149,33 @@ def reactions_cases(tmp):
         ("seed", [-1, 2**70, 1.5, "1", True], lambda v: small().set_reactions(rule, seed=v)),
         ("colours", [[1, 2, 3], {1: "red"}, {1: (1, 2)}, {1: (1, 2, 256)}, {-1: (1, 2, 3)}],
          lambda v: small().set_reactions(rule, colours=v)),
+    ]
+
+
+RESTITUTION_HOSTILE = [1.5, -0.1, NAN, INF, "0.5", True, 1 + 1j, [0.5], {"all": 2},
+                       {"all": {"bridges": 0}}, {"walls": NAN}, {"tc": -1},
+                       {"pairs": {(0, 1): 2}}, {"pairs": {(0, 300): 0.5}}, {"wall": 0.5}]
+
+
+def restitution_cases(tmp):
+    return [
+        ("restitution", RESTITUTION_HOSTILE, lambda v: small().set_restitution(v)),
+    ]
+
+
+def walled():
+    return edmd.gen.fluid(n=20, packing=0.3, seed=1, boundary="walls")
+
+
+def gravity_cases(tmp):
+    sideways = dict(boundary=("periodic", "walls"))
+    return [
+        ("g", [0, -0.0, NAN, INF, "1", True, 1 + 1j, [1.0], {"g": 0}, {"axis": 1}, {"x": 1},
+               object()],
+         lambda v: walled().set_gravity(v)),
+        # 0 and "x" name the periodic axis.
+        ("axis", [0, "x", 2, "z", 3, -1, 2**70, 1.5, "w", True, [1], object()],
+         lambda v: pair(**sideways).set_gravity(-1.0, axis=v)),
     ]
 
 
@@ -199,6 +231,10 @@ def gen_cases(tmp):
                        [{"reactants": (0, 0), "products": (1, 1), "probability": 2}],
                        ["0 + 0 -> 1 + 1", "0 + 0 -> 2 + 2"]],
          lambda v: edmd.gen.fluid(n=20, reactions=v)),
+        ("restitution", [1.5, NAN, "0.9", True, {"all": 2}, {"tc": -1}],
+         lambda v: edmd.gen.fluid(n=20, restitution=v)),
+        ("gravity", [0, NAN, INF, "-1", True, 1 + 1j, [1.0]],
+         lambda v: edmd.gen.fluid(n=20, gravity=v)),
     ]
     return cases
 
@@ -233,7 +269,8 @@ def pack_cases(tmp):
 
 
 GROUPS = [run_cases, measure_cases, write_cases, setter_cases, from_arrays_cases,
-          thermostat_cases, reactions_cases, from_file_cases, gen_cases, pack_cases]
+          thermostat_cases, reactions_cases, restitution_cases, gravity_cases, from_file_cases,
+          gen_cases, pack_cases]
 
 
 def ids():

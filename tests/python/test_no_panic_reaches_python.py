@@ -63,6 +63,20 @@ def test_zero_particles_with_reaction_rules():
     assert sim.species_counts.shape == (0,)
 
 
+def test_zero_particles_with_restitution_and_a_field():
+    sim = edmd.Simulation.from_arrays(np.zeros((0, 2)), np.zeros((0, 2)), 1.0, box=(10, 10),
+                                      boundary="walls", gravity=-1.0,
+                                      restitution={"all": 0.5, "tc": 0.1})
+    sim.measure("energy", "temperature", every=0.1)
+    sim.run(until=1.0)
+    sim.results()
+    assert sim.dissipated == 0.0 and sim.field_energy == 0.0 and sim.potential_energy == 0.0
+    back = pickle.loads(pickle.dumps(sim))
+    assert back.gravity == sim.gravity and back.restitution == sim.restitution
+    sim.set_gravity(None)
+    sim.set_restitution(None)
+
+
 def test_zero_particles_run_and_read():
     sim = empty()
     sim.run(until=1.0)
@@ -126,6 +140,12 @@ USES = {
     "species_counts": lambda sim: sim.species_counts,
     "reaction_counts": lambda sim: sim.reaction_counts,
     "reaction_heat": lambda sim: sim.reaction_heat,
+    "set_restitution": lambda sim: sim.set_restitution(0.9),
+    "restitution": lambda sim: sim.restitution,
+    "dissipated": lambda sim: sim.dissipated,
+    "set_gravity": lambda sim: sim.set_gravity(-1.0),
+    "gravity": lambda sim: sim.gravity,
+    "field_energy": lambda sim: sim.field_energy,
 }
 
 

@@ -10,6 +10,7 @@
 
 mod args;
 mod arrays;
+mod gravity;
 mod pack;
 mod potential;
 mod reactions;
@@ -321,7 +322,10 @@ fn extension(path: &Path) -> Option<String> {
 /// `reactions`, `species_counts`, `reaction_counts` and `reaction_heat`; and inelastic
 /// collisions, a coefficient of normal restitution per pair of species and at the walls
 /// (`set_restitution`, `from_arrays(restitution=...)`, `edmd.gen.fluid(restitution=...)`, or a
-/// file's `# edmd restitution` lines), read back as `restitution` and `dissipated`.
+/// file's `# edmd restitution` lines), read back as `restitution` and `dissipated`; and a
+/// uniform field, gravity along an axis with walls (`set_gravity`, `from_arrays(gravity=...)`,
+/// `edmd.gen.fluid(gravity=...)`, or a file's `# edmd gravity` line), read back as `gravity`
+/// and `field_energy`.
 ///
 /// Threads: a simulation is used by one thread at a time. While `run` is under way in one
 /// thread, every use of the simulation from another thread (reading `positions`, pickling,
@@ -436,7 +440,8 @@ impl PySimulation {
     /// Reads a data file, as `edmd run FILE` does: the course format, the Princeton format
     /// (with edmd's extension: 3D files, walls or periodic boundaries, barriers, species,
     /// stepped potentials from `# edmd potential` lines, reaction rules from `# edmd reaction`
-    /// lines, inelastic collisions from `# edmd restitution` lines), a GSD file of the HOOMD
+    /// lines, inelastic collisions from `# edmd restitution` lines, a field from a
+    /// `# edmd gravity` line), a GSD file of the HOOMD
     /// schema (HOOMD-blue's, the `gsd` package's or edmd's own: a periodic box unless edmd
     /// wrote walls; positions and velocities to float32 precision, exact for files edmd wrote
     /// with `write`) or an `edmd run --checkpoint` file.
@@ -532,6 +537,11 @@ impl PySimulation {
     ///         `{"all": LAW, "pairs": {(a, b): LAW}, "walls": e, "tc": t}` (every key
     ///         optional), a LAW being a coefficient or `{"bridges": v_c}`. Needs the elastic
     ///         rule, binary collisions, no stepped potential and no reaction rules.
+    ///     gravity: a uniform field (None: none), as `set_gravity` takes it: the acceleration
+    ///         g along the last axis (y in 2D, z in 3D; negative pulls towards 0), or the dict
+    ///         `{"axis": k, "g": g}` that `Simulation.gravity` gives. The axis must have walls.
+    ///         Needs binary collisions and no stepped potential; inelastic collisions in a
+    ///         field need the TC model (a restitution with "tc" > 0).
     ///
     /// Raises:
     ///     TypeError: an argument that is not numbers (strings, complex numbers, booleans,
@@ -541,7 +551,8 @@ impl PySimulation {
     ///         whose steps are not in increasing radius, lie inside the hard core, or name a
     ///         species no disc has (the message starts "potential:"), reaction rules that
     ///         cannot be (the message starts "reactions:"), restitution that cannot be (the
-    ///         message starts "restitution:").
+    ///         message starts "restitution:"), a field that cannot be (the message starts
+    ///         "gravity").
     ///
     /// >>> import numpy as np
     /// >>> sim = edmd.Simulation.from_arrays([[2.0, 5.0], [8.0, 5.0]], [[1.0, 0.0], [-1.0, 0.0]],
@@ -557,8 +568,10 @@ impl PySimulation {
     /// ...                                    reactions=["0 + 1 -> 2 + 2 activation 0.5"])
     /// >>> soft = edmd.Simulation.from_arrays([[2.0, 5.0], [8.0, 5.0]], [[1.0, 0.0], [-1.0, 0.0]],
     /// ...                                    radii=1.0, box=(10.0, 10.0), restitution=0.5)
+    /// >>> drop = edmd.Simulation.from_arrays([[5.0, 8.0]], [[0.0, 0.0]], radii=0.5,
+    /// ...                                    box=(10.0, 10.0), boundary="walls", gravity=-1.0)
     #[staticmethod]
-    #[pyo3(signature = (positions, velocities, radii, masses=None, r#box=None, boundary=None, species=None, rule=None, multi=None, allow_overlaps=None, potential=None, reactions=None, restitution=None))]
+    #[pyo3(signature = (positions, velocities, radii, masses=None, r#box=None, boundary=None, species=None, rule=None, multi=None, allow_overlaps=None, potential=None, reactions=None, restitution=None, gravity=None))]
     #[allow(clippy::too_many_arguments)]
     fn from_arrays(
         positions: &Bound<'_, PyAny>,
@@ -574,6 +587,7 @@ impl PySimulation {
         potential: Option<&Bound<'_, PyAny>>,
         reactions: Option<&Bound<'_, PyAny>>,
         restitution: Option<&Bound<'_, PyAny>>,
+        gravity: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<Self> {
         let input = arrays::Input::new(
             positions, velocities, radii, masses, r#box, boundary, species, potential,
@@ -593,22 +607,29 @@ impl PySimulation {
             Some(r) => restitution::parse(r, "restitution")?,
             None => None,
         };
-        /// The simulation of the arrays, with the rules and the restitution.
+        let field = match gravity {
+            Some(g) => gravity::parse(g)?,
+            None => None,
+        };
+        /// The simulation of the arrays, with the rules, the field and the restitution (in
+        /// the order `edmd run` sets a file's).
         fn made<const D: usize>(
             input: &arrays::Input,
             opts: Options,
             reactions: Option<edmd_core::Reactions>,
+            field: Option<gravity::Field>,
             restitution: Option<edmd_core::Restitution>,
         ) -> PyResult<State<D>> {
             let mut sim = input.build::<D>(opts)?;
             reactions::apply(&mut sim, reactions, "reactions")?;
+            gravity::apply(&mut sim, field)?;
             restitution::apply(&mut sim, restitution, "restitution")?;
             Ok(State::new(sim, Format::Princeton(ColumnOrder::RadiusMass)))
         }
         guarded("from_arrays", || {
             let inner = match input.dim {
-                3 => Inner::Three(made(&input, opts, reactions, restitution)?),
-                _ => Inner::Two(made(&input, opts, reactions, restitution)?),
+                3 => Inner::Three(made(&input, opts, reactions, field, restitution)?),
+                _ => Inner::Two(made(&input, opts, reactions, field, restitution)?),
             };
             Ok(PySimulation { inner })
         })
@@ -897,9 +918,10 @@ impl PySimulation {
     /// name and moved into place, as `edmd run` writes, and a refused call (a bad format, a
     /// system the course format cannot hold, a folder) leaves every file as it was.
     ///
-    /// A stepped potential, reaction rules and restitution are written with the state in
-    /// Princeton files (`# edmd potential`, `# edmd reaction` and `# edmd restitution` lines,
-    /// as `edmd run` writes them) and in checkpoints, so `from_file` reads them back (a
+    /// A stepped potential, reaction rules, restitution and a field are written with the
+    /// state in Princeton files (`# edmd potential`, `# edmd reaction`, `# edmd restitution`
+    /// and `# edmd gravity` lines, as `edmd run` writes them) and in checkpoints, so
+    /// `from_file` reads them back (a
     /// Princeton file holds the rules and the restitution, not the seed of the rules' draws,
     /// the counts, the energy dissipated so far or the TC model's clock: a checkpoint holds
     /// all); XYZ and GSD frames hold none of them, and writing a state that has one as XYZ,
@@ -1112,9 +1134,10 @@ impl PySimulation {
             .transpose()
     }
 
-    /// Total potential energy of the stepped potential: the sum over pairs of the energy of
-    /// the shell each is in (0.0 for hard cores). `kinetic_energy + potential_energy` is
-    /// conserved (without a thermostat).
+    /// Total potential energy: that of the stepped potential, the sum over pairs of the
+    /// energy of the shell each is in, plus that of the field, `field_energy` (0.0 for hard
+    /// cores without a field). `kinetic_energy + potential_energy` is conserved (without a
+    /// thermostat, reactions' heat or restitution).
     #[getter]
     fn potential_energy(slf: &Bound<'_, Self>) -> PyResult<f64> {
         Ok(each!(&get(slf)?.inner, s => s.sim.potential_energy()))
@@ -1401,6 +1424,67 @@ impl PySimulation {
         Ok(each!(&get(slf)?.inner, s => s.sim.dissipated()))
     }
 
+    /// The uniform field: None (discs fly straight), or the dict {"axis": k, "g": g}
+    /// (`axis` 0 for x, 1 for y, 2 for z; `g` the acceleration along it, negative towards 0),
+    /// as `set_gravity` and `from_arrays(gravity=...)` take it (`sim.set_gravity(**sim.gravity)`
+    /// sets it again).
+    #[getter]
+    fn gravity<'py>(slf: &Bound<'py, Self>) -> PyResult<Option<Bound<'py, PyDict>>> {
+        let this = get(slf)?;
+        each!(&this.inner, s => s.sim.gravity().map(|f| gravity::to_dict(slf.py(), f))).transpose()
+    }
+
+    /// Puts the discs in a uniform field from now on, as a file's `# edmd gravity` line does:
+    /// each disc's velocity along `axis` grows by `g` per unit time, so that between events
+    /// discs fly on parabolas, and the field's potential energy `-sum m g x` (`x` the
+    /// coordinate along the axis, from the wall at 0) is `field_energy`, counted in
+    /// `potential_energy`: `kinetic_energy + potential_energy` is conserved. The discs'
+    /// velocities now are kept; `set_gravity(None)` removes the field (discs fly straight on
+    /// from their velocities then). Pickles and checkpoints carry the field, so a restored
+    /// simulation continues bit for bit.
+    ///
+    /// Args:
+    ///     g: the acceleration, a finite number other than 0 (negative pulls towards 0,
+    ///         "down"); None removes the field; or the dict {"axis": k, "g": g} that
+    ///         `Simulation.gravity` gives (then no `axis` beside it).
+    ///     axis: 0, 1, 2 or "x", "y", "z"; the last axis (y in 2D, z in 3D) when None. It
+    ///         must have walls: along a periodic axis a disc would fall for ever.
+    ///
+    /// Raises:
+    ///     TypeError, ValueError: a bad argument, named in the message ("g: ...",
+    ///         "axis: ..."): g not a finite number other than 0, an axis the simulation does
+    ///         not have or that is periodic; a field with a stepped potential, barriers or
+    ///         multi-disc collisions, or with inelastic collisions without the TC model ("tc"
+    ///         > 0) or with walls of coefficient 0. A refused call changes nothing.
+    ///
+    /// >>> sim.set_gravity(-9.81)              # along y in 2D, z in 3D
+    /// >>> sim.set_gravity(-1.0, axis="x")
+    /// >>> sim.gravity
+    /// {'axis': 0, 'g': -1.0}
+    /// >>> sim.kinetic_energy + sim.potential_energy   # conserved
+    /// >>> sim.set_gravity(None)
+    #[pyo3(signature = (g, *, axis=None))]
+    fn set_gravity(
+        slf: &Bound<'_, Self>,
+        g: &Bound<'_, PyAny>,
+        axis: Option<&Bound<'_, PyAny>>,
+    ) -> PyResult<()> {
+        let field = gravity::from_arguments(g, axis)?;
+        let mut this = get_mut(slf)?;
+        guarded(
+            "set_gravity",
+            || each!(&mut this.inner, s => gravity::apply(&mut s.sim, field)),
+        )
+    }
+
+    /// The field's potential energy now, `-sum m g x` over the discs (`x` the coordinate along
+    /// the field's axis, from the wall at 0); 0.0 without a field. It is part of
+    /// `potential_energy`.
+    #[getter]
+    fn field_energy(slf: &Bound<'_, Self>) -> PyResult<f64> {
+        Ok(each!(&get(slf)?.inner, s => s.sim.field_energy()))
+    }
+
     /// How many discs are of each species now: an int64 array indexed by species, from 0 to
     /// the largest species a disc is or a rule names (so a product not made yet counts 0).
     #[getter]
@@ -1540,6 +1624,8 @@ fn beyond_hard_cores<const D: usize>(sim: &Simulation<D>) -> Option<&'static str
         Some("the reaction rules")
     } else if sim.restitution().is_some() {
         Some("the restitution")
+    } else if sim.gravity().is_some() {
+        Some("the field")
     } else {
         None
     }
@@ -1739,7 +1825,7 @@ fn _restore(data: &Bound<'_, PyAny>) -> PyResult<PySimulation> {
 /// Makes a system as `edmd gen KIND` does (same checks, messages and seeds) and returns it as
 /// a simulation. Called by the functions in `edmd.gen`.
 #[pyfunction]
-#[pyo3(signature = (kind, *, dim=2, seed=1, course=false, n=None, radius=None, speed=None, mass=None, kt=None, packing=None, boundary=None, angle=None, impact=None, region=None, big_radius=None, big_mass=None, size_ratio=None, fraction_large=None, spread=None, well=None, shoulder=None, depth=None, rule="elastic", multi=false, species=None, reactions=None, restitution=None))]
+#[pyo3(signature = (kind, *, dim=2, seed=1, course=false, n=None, radius=None, speed=None, mass=None, kt=None, packing=None, boundary=None, angle=None, impact=None, region=None, big_radius=None, big_mass=None, size_ratio=None, fraction_large=None, spread=None, well=None, shoulder=None, depth=None, rule="elastic", multi=false, species=None, reactions=None, restitution=None, gravity=None))]
 #[allow(clippy::too_many_arguments)]
 fn _generate(
     kind: &str,
@@ -1769,6 +1855,7 @@ fn _generate(
     species: Option<&Bound<'_, PyAny>>,
     reactions: Option<&Bound<'_, PyAny>>,
     restitution: Option<&Bound<'_, PyAny>>,
+    gravity: Option<f64>,
 ) -> PyResult<PySimulation> {
     use edmd::gen::{make_with, ChemistryArgs, GenArgs, Generated};
     let dim =
@@ -1828,7 +1915,7 @@ fn _generate(
         well,
         shoulder,
         depth,
-        gravity: None,
+        gravity,
     };
     // `edmd gen`'s messages, with the Python argument names instead of its flags.
     let message = |e: anyhow::Error| {
@@ -1854,6 +1941,7 @@ fn _generate(
             "shoulder",
             "well",
             "depth",
+            "gravity",
             "course",
             "seed",
             "species",
@@ -1895,18 +1983,21 @@ fn _generate(
         }
         .map_err(|e| value_error(format!("gen {kind}: {e}")))
     }
-    /// [`build`] with the rules and the restitution, as `edmd run` sets those of the file
-    /// `edmd gen` writes.
+    /// [`build`] with the rules, the field and the restitution, as `edmd run` sets those of
+    /// the file `edmd gen` writes (in that order: restitution in a field is refused without
+    /// the TC model).
     fn reactive<const D: usize>(
         system: &edmd_core::System<D>,
         potential: &edmd_core::Potential,
         opts: Options,
         kind: &str,
         reactions: Option<edmd_core::Reactions>,
+        field: Option<edmd_core::Gravity>,
         restitution: Option<edmd_core::Restitution>,
     ) -> PyResult<Simulation<D>> {
         let mut sim = build(system, potential, opts, kind)?;
         reactions::apply(&mut sim, reactions, "reactions")?;
+        gravity::apply(&mut sim, field.map(|f| gravity::Field::of(f, "gravity")))?;
         restitution::apply(&mut sim, restitution, "restitution")?;
         Ok(sim)
     }
@@ -1915,19 +2006,20 @@ fn _generate(
             edmd::gen::restitution_of(&args, &chemistry, &restitution_texts).map_err(message)?;
         let (generated, _) = make_with(&args, &chemistry).map_err(message)?;
         let potential = args.potential_of(&generated).map_err(message)?;
+        let field = edmd::gen::gravity_of(&args, &generated).map_err(message)?;
         match generated {
             Generated::Two(_, Format::Course) if !potential.is_hard() => Err(value_error(format!(
                 "gen {kind}: the course format has no place for a potential (course with well or shoulder)"
             ))),
             Generated::Two(system, format) => Ok(PySimulation {
                 inner: Inner::Two(State::new(
-                    reactive(&system, &potential, opts, kind, reactions, restitution)?,
+                    reactive(&system, &potential, opts, kind, reactions, field, restitution)?,
                     format,
                 )),
             }),
             Generated::Three(system) => Ok(PySimulation {
                 inner: Inner::Three(State::new(
-                    reactive(&system, &potential, opts, kind, reactions, restitution)?,
+                    reactive(&system, &potential, opts, kind, reactions, field, restitution)?,
                     Format::Princeton(ColumnOrder::RadiusMass),
                 )),
             }),
