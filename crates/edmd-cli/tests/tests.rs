@@ -3,6 +3,7 @@
 mod support;
 
 mod bad_input;
+mod barometric;
 mod bench;
 mod checkpoint;
 mod chemistry;
@@ -10,6 +11,7 @@ mod clock;
 mod defects;
 mod experiments;
 mod front;
+mod granular;
 mod gsd;
 mod library;
 mod limits;
@@ -21,3 +23,4 @@ mod signals;
 mod soak;
 mod three_d;
 mod trajectory;
+mod viscosity;

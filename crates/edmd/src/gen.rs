@@ -171,7 +171,7 @@ pub struct GenArgs {
     /// A uniform field of acceleration G along the last axis (y in 2D, z in 3D; negative
     /// pulls towards 0), written as '# edmd gravity y G' (or z). That axis gets walls; the
     /// others keep --boundary (for fluid and mixture, periodic unless walls are asked for).
-    #[arg(long, value_name = "G", allow_negative_numbers = true)]
+    #[arg(long, value_name = "G", allow_hyphen_values = true)]
     pub gravity: Option<f64>,
 }
 
