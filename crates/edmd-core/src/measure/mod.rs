@@ -38,6 +38,7 @@
 //! ```
 
 pub mod collisions;
+pub mod column;
 pub mod diffusion;
 pub mod energy;
 pub mod kinetics;

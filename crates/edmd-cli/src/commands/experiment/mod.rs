@@ -2,6 +2,7 @@
 //! prints a summary and writes CSV files and plots (PNG and SVG) into `--out-dir`.
 
 pub mod annihilation;
+pub mod barometric;
 pub mod billiards;
 pub mod brownian;
 pub mod common;
@@ -27,6 +28,10 @@ pub enum Experiment {
     /// A + A -> inert in 2D: the density of A against time, against the mean-field law with
     /// the line-of-centres rate constant early on and Lee's diffusion-limited law late.
     Annihilation(annihilation::AnnihilationArgs),
+    /// A gas column in a field: density against height against the barometric law (dilute)
+    /// and the local-density approximation with the hard-disc (sphere) equation of state
+    /// (dense); the temperature against height.
+    Barometric(barometric::BarometricArgs),
     /// Break a racked triangle with multi-disc and with binary collisions; plot both.
     Billiards(billiards::BilliardsArgs),
     /// Brownian motion: the path and mean square displacement of one big disc among small ones.
@@ -74,6 +79,7 @@ pub fn run(which: &Experiment) -> Result<()> {
     }
     let result = match which {
         Experiment::Annihilation(a) => annihilation::run(a),
+        Experiment::Barometric(a) => barometric::run(a),
         Experiment::Billiards(a) => billiards::run(a),
         Experiment::Brownian(a) => brownian::run(a),
         Experiment::Cooling(a) => cooling::run(a),
