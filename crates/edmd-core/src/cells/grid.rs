@@ -10,7 +10,7 @@
 use crate::error::Error;
 use crate::hint::filled;
 use crate::math::{select, Vector};
-use crate::predict::{interval_exit_accel, interval_exit_or_inf, Side};
+use crate::predict::{interval_exit_accel_or_inf, interval_exit_or_inf, Side};
 use crate::state::SimBox;
 
 /// "No disc": the end of a cell's list.
@@ -335,8 +335,9 @@ impl<const D: usize> CellGrid<D> {
     }
 
     /// [`Self::exit_time`] for a disc accelerated at `g` along `axis` (a field): along that
-    /// axis its coordinate follows a parabola ([`interval_exit_accel`]). Off the event loop's
-    /// hard-core copies, so written plainly.
+    /// axis its coordinate follows a parabola ([`interval_exit_accel_or_inf`]). Without
+    /// branches on the direction of motion, as [`Self::exit_time`].
+    #[inline(always)]
     pub fn exit_time_accel(
         &self,
         i: usize,
@@ -349,29 +350,21 @@ impl<const D: usize> CellGrid<D> {
         let (mut best, mut best_axis, mut high) = (f64::INFINITY, 0usize, false);
         for a in 0..D {
             let walled = !self.periodic[a];
-            let lo = if c[a] == 0 && walled {
-                f64::NEG_INFINITY
-            } else {
-                c[a] as f64 * self.width[a]
-            };
-            let hi = if c[a] + 1 >= self.dims[a] {
-                if walled {
-                    f64::INFINITY
-                } else {
-                    self.lengths[a]
-                }
-            } else {
-                (c[a] + 1) as f64 * self.width[a]
-            };
-            let (dt, h) = if a == axis {
-                interval_exit_accel(p[a], v[a], g, lo, hi)
-                    .map_or((f64::INFINITY, false), |(t, s)| (t, s == Side::High))
-            } else {
-                interval_exit_or_inf(p[a], v[a], lo, hi)
-            };
-            if dt < best {
-                (best, best_axis, high) = (dt, a, h);
-            }
+            let first = c[a] == 0;
+            let last = c[a] + 1 >= self.dims[a];
+            let lo = select(
+                first & walled,
+                f64::NEG_INFINITY,
+                c[a] as f64 * self.width[a],
+            );
+            let edge = select(walled, f64::INFINITY, self.lengths[a]);
+            let hi = select(last, edge, (c[a] + 1) as f64 * self.width[a]);
+            let ga = select(a == axis, g, 0.0);
+            let (dt, h) = interval_exit_accel_or_inf(p[a], v[a], ga, lo, hi);
+            let earlier = dt < best;
+            best_axis = if earlier { a } else { best_axis };
+            high = (earlier & h) | (!earlier & high);
+            best = best.min(dt);
         }
         (best, best_axis, high)
     }

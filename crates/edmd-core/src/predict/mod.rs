@@ -11,4 +11,6 @@ pub use disc_disc::{
     contact_root, contact_terms, contact_time, contact_time_or_inf, time_to_contact, ContactTerms,
     FAR_CONTACT_RATIO2,
 };
-pub use interval::{interval_exit, interval_exit_accel, interval_exit_or_inf, Side};
+pub use interval::{
+    interval_exit, interval_exit_accel, interval_exit_accel_or_inf, interval_exit_or_inf, Side,
+};

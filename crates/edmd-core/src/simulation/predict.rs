@@ -5,7 +5,7 @@ use crate::events::{Pending, Side};
 use crate::math::Vector;
 use crate::predict::barrier::{time_to_barrier, time_to_doorway, Contact};
 use crate::predict::{
-    contact_root, contact_terms, interval_exit, interval_exit_accel, ContactTerms,
+    contact_root, contact_terms, interval_exit, interval_exit_accel_or_inf, ContactTerms,
     FAR_CONTACT_RATIO2,
 };
 use crate::schedule::EventQueue;
@@ -128,6 +128,7 @@ impl<const D: usize> Simulation<D> {
     /// redraw), from `pos` and `vel` at its own clock `t0`: the event's time and the event.
     /// Predictions and [`Self::own_event`] both take it, so they agree to the bit. (No
     /// barriers or stepped potential: a field is refused with them.)
+    #[inline(always)]
     pub(super) fn own_event_in_field(
         &self,
         i: usize,
@@ -150,20 +151,20 @@ impl<const D: usize> Simulation<D> {
             if self.sim_box.is_periodic(a) {
                 continue;
             }
-            let (lo, hi) = (radius, self.sim_box.lengths[a] - radius);
-            let exit = if a == f.axis {
-                interval_exit_accel(pos[a], vel[a], f.g, lo, hi)
-            } else {
-                interval_exit(pos[a], vel[a], lo, hi)
-            };
-            if let Some((dt, side)) = exit {
-                if dt < best_dt {
-                    best_dt = dt;
-                    best = Pending::Wall {
-                        axis: a as u8,
-                        side,
-                    };
-                }
+            let ga = if a == f.axis { f.g } else { 0.0 };
+            let (dt, high) = interval_exit_accel_or_inf(
+                pos[a],
+                vel[a],
+                ga,
+                radius,
+                self.sim_box.lengths[a] - radius,
+            );
+            if dt < best_dt {
+                best_dt = dt;
+                best = Pending::Wall {
+                    axis: a as u8,
+                    side: if high { Side::High } else { Side::Low },
+                };
             }
         }
         let best_t = if best_dt == f64::INFINITY {
@@ -365,7 +366,13 @@ impl<const D: usize> Simulation<D> {
             radius,
             nearest,
         };
-        self.grid.visit_near(c, &mut scan);
+        if D == 3 {
+            // As the hard cores' scalar scan: the neighbour cells near the grid's edges
+            // worked out once per axis.
+            self.grid.visit_near_edges_once(c, &mut scan);
+        } else {
+            self.grid.visit_near(c, &mut scan);
+        }
         let own = best;
         let (best_t, partner, second_t, second_partner) = scan.nearest.settle();
         if partner != NO_PARTNER {
