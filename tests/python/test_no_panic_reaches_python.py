@@ -19,7 +19,7 @@ import pytest
 import edmd
 
 MEASUREMENTS = ["temperature", "pressure", "collisions", "speeds", "msd", "species", "energy",
-                "rdf", "kinetics"]
+                "rdf", "kinetics", "viscosity"]
 
 
 def empty():

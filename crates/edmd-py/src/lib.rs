@@ -871,8 +871,13 @@ impl PySimulation {
         }
         let mut this = get_mut(slf)?;
         guarded("measure", || {
-            each!(&mut this.inner, s => s.measure(&which, every));
-            Ok(())
+            each!(&mut this.inner, s => {
+                edmd::measure::Measurements::check(&s.sim, &which).map_err(|e| {
+                    value_error(format!("measure: {}", e.to_string().trim_start_matches("--measure ")))
+                })?;
+                s.measure(&which, every);
+                Ok(())
+            })
         })
     }
 

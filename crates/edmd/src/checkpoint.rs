@@ -138,6 +138,8 @@ pub fn read_extra<const D: usize>(extra: &[u8]) -> Option<(Format, Option<Measur
     // before a measurement was added ends early for today's layout and is read with its own.
     let extra = postcard::from_bytes::<CheckpointExtra<Measuring<D>>>(extra)
         .ok()
+        // Written before the viscosity was measured.
+        .or_else(|| read_extra_before::<D, crate::measure::MeasurementsBeforeViscosity<D>>(extra))
         // Written before kinetics were measured.
         .or_else(|| read_extra_before::<D, crate::measure::MeasurementsBeforeKinetics<D>>(extra))
         // Written before energy and g(r) were measured.
@@ -272,6 +274,25 @@ mod tests {
     use edmd_core::setup::lattice_fluid;
     use edmd_core::{Boundary, Options};
 
+    /// A checkpoint written before the viscosity was measured (its extra bytes end where
+    /// today's `viscosity` would begin) is read back with the measurements it had.
+    #[test]
+    fn measurements_from_before_viscosity_read_back() {
+        let (discs, bx) = lattice_fluid(64, 0.3, Boundary::Periodic, 1).unwrap();
+        let mut sim = Simulation::new(&discs, bx, Options::default()).unwrap();
+        let which = [Measure::Temperature, Measure::Pressure];
+        let mut m = Measuring::new(&sim, &which, 0.5);
+        assert!(m.run_to(&mut sim, 2.0).unwrap());
+        let now = checkpoint_bytes(&sim, Format::Course, Some(&m)).unwrap();
+        let (_, extra) = Simulation::<2>::from_checkpoint(&now).unwrap();
+        assert_eq!(extra.last(), Some(&0));
+        let before = sim.to_checkpoint(&extra[..extra.len() - 1]);
+        let (_, _, back) = from_checkpoint_bytes::<2>(&before).unwrap();
+        let back = back.unwrap();
+        assert_eq!((back.which, back.samples), (which.to_vec(), 4));
+        assert_eq!(back.obs.results(&sim).0, m.obs.results(&sim).0);
+    }
+
     /// A checkpoint written before kinetics were measured (its extra bytes end where today's
     /// `kinetics` would begin) is read back with the measurements it had.
     #[test]
@@ -283,9 +304,9 @@ mod tests {
         assert!(m.run_to(&mut sim, 2.0).unwrap());
         let now = checkpoint_bytes(&sim, Format::Course, Some(&m)).unwrap();
         let (_, extra) = Simulation::<2>::from_checkpoint(&now).unwrap();
-        // `kinetics: None` is the last byte, 0.
-        assert_eq!(extra.last(), Some(&0));
-        let before = sim.to_checkpoint(&extra[..extra.len() - 1]);
+        // `kinetics: None` and `viscosity: None` are the last two bytes, 0.
+        assert_eq!(extra[extra.len() - 2..], [0, 0]);
+        let before = sim.to_checkpoint(&extra[..extra.len() - 2]);
         let (_, format, back) = from_checkpoint_bytes::<2>(&before).unwrap();
         let back = back.unwrap();
         assert_eq!(format, Format::Course);

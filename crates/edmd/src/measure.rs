@@ -7,7 +7,7 @@ use anyhow::Result;
 use clap::ValueEnum;
 use edmd_core::measure::{
     kinetic_temperature, Collisions, Diffusion, Energy, Kinetics, Pressure, Rdf, SpeciesHalves,
-    Speeds, Temperature,
+    Speeds, Temperature, Viscosity,
 };
 use edmd_core::{EventRecord, Observer, Simulation};
 use serde::{Deserialize, Serialize};
@@ -41,6 +41,10 @@ pub enum Measure {
     /// rule's reactions and rate constant k (reactions per unit volume and time = k n_A n_B,
     /// k n_A^2 / 2 for like reactants) with its block error.
     Kinetics,
+    /// Shear viscosity by the Einstein-Helfand route, <Delta G^2> / (2 V kT tau) over windows up
+    /// to 10 mean collision times, with its block error and Enskog's value (periodic boxes
+    /// only).
+    Viscosity,
 }
 
 impl Measure {
@@ -60,6 +64,7 @@ impl Measure {
             Measure::Energy => &["energy.csv"],
             Measure::Rdf => &["rdf.csv"],
             Measure::Kinetics => &["kinetics.csv"],
+            Measure::Viscosity => &["viscosity.csv"],
         }
     }
 }
@@ -77,6 +82,40 @@ pub struct Measurements<const D: usize = 2> {
     energy: Option<Energy>,
     rdf: Option<Rdf>,
     kinetics: Option<Kinetics>,
+    viscosity: Option<Viscosity>,
+}
+
+/// [`Measurements`] as checkpoints kept them before `viscosity` was measured: read back, they
+/// go on as measurements without it.
+#[derive(Deserialize)]
+#[serde(bound = "")]
+pub(crate) struct MeasurementsBeforeViscosity<const D: usize> {
+    temperature: Option<Temperature>,
+    pressure: Option<Pressure>,
+    collisions: Option<Collisions>,
+    speeds: Option<Speeds>,
+    msd: Option<Diffusion<D>>,
+    species: Option<SpeciesHalves>,
+    energy: Option<Energy>,
+    rdf: Option<Rdf>,
+    kinetics: Option<Kinetics>,
+}
+
+impl<const D: usize> From<MeasurementsBeforeViscosity<D>> for Measurements<D> {
+    fn from(m: MeasurementsBeforeViscosity<D>) -> Self {
+        Measurements {
+            temperature: m.temperature,
+            pressure: m.pressure,
+            collisions: m.collisions,
+            speeds: m.speeds,
+            msd: m.msd,
+            species: m.species,
+            energy: m.energy,
+            rdf: m.rdf,
+            kinetics: m.kinetics,
+            viscosity: None,
+        }
+    }
 }
 
 /// [`Measurements`] as checkpoints kept them before `kinetics` was measured: read back, they go
@@ -106,6 +145,7 @@ impl<const D: usize> From<MeasurementsBeforeKinetics<D>> for Measurements<D> {
             energy: m.energy,
             rdf: m.rdf,
             kinetics: None,
+            viscosity: None,
         }
     }
 }
@@ -135,6 +175,7 @@ impl<const D: usize> From<MeasurementsBefore<D>> for Measurements<D> {
             energy: None,
             rdf: None,
             kinetics: None,
+            viscosity: None,
         }
     }
 }
@@ -176,7 +217,19 @@ impl<const D: usize> Measurements<D> {
                 Rdf::new(sim, range(5.0 * largest), 250)
             }),
             kinetics: has(Measure::Kinetics).then(|| Kinetics::new(sim)),
+            viscosity: has(Measure::Viscosity).then(|| Viscosity::for_fluid(sim)),
         }
+    }
+
+    /// Refuses measurements that cannot be taken on `sim` (the viscosity in a box with walls),
+    /// with a one-line message; the run's front door calls it before [`Self::new`].
+    pub fn check(sim: &Simulation<D>, which: &[Measure]) -> Result<()> {
+        if which.contains(&Measure::Viscosity) {
+            if let Some(why) = edmd_core::measure::viscosity::unsupported(sim) {
+                return crate::user_error(format!("--measure viscosity: {why}"));
+            }
+        }
+        Ok(())
     }
 
     /// Whether these measurements can go on observing `sim` (checked on measurements read back
@@ -186,6 +239,7 @@ impl<const D: usize> Measurements<D> {
             && self.msd.as_ref().is_none_or(|m| m.fits(sim))
             && self.species.as_ref().is_none_or(|m| m.fits(sim))
             && self.kinetics.as_ref().is_none_or(|m| kinetics_fits(m, sim))
+            && self.viscosity.as_ref().is_none_or(|m| m.fits(sim))
     }
 
     /// Takes a sample of every measurement at the simulation's current time.
@@ -215,6 +269,9 @@ impl<const D: usize> Measurements<D> {
             m.sample(sim);
         }
         if let Some(m) = &mut self.kinetics {
+            m.sample(sim);
+        }
+        if let Some(m) = &mut self.viscosity {
             m.sample(sim);
         }
     }
@@ -458,6 +515,26 @@ impl<const D: usize> Measurements<D> {
                        "counts": m.counts(), "rules": rules}),
             );
         }
+        if let Some(m) = &self.viscosity {
+            csv(
+                "viscosity.csv",
+                &["tau", "eta_tau", "mean_square_delta_g"],
+                m.curve()
+                    .iter()
+                    .map(|&(tau, eta, msq)| vec![tau, eta, msq])
+                    .collect(),
+            );
+            let s = m.summary();
+            // Before a block closes the values are NaN, which JSON has no word for.
+            let num = |x: f64| if x.is_finite() { json!(x) } else { Value::Null };
+            out.insert(
+                "viscosity".into(),
+                json!({"eta": num(s.eta.value), "eta_error": num(s.eta.error), "blocks": s.eta.blocks,
+                       "eta_enskog": num(s.eta_enskog), "eta_at_window": num(s.eta_at_window),
+                       "window": s.window, "fit_from": s.fit_from, "spacing": s.spacing,
+                       "kT": num(s.kt), "elapsed": s.elapsed, "packing": s.packing}),
+            );
+        }
         (Value::Object(out), tables)
     }
 }
@@ -501,6 +578,9 @@ impl<const D: usize> Observer<D> for Measurements<D> {
             m.on_event(e, sim);
         }
         if let Some(m) = &mut self.kinetics {
+            m.on_event(e, sim);
+        }
+        if let Some(m) = &mut self.viscosity {
             m.on_event(e, sim);
         }
     }

@@ -359,6 +359,9 @@ fn execute<const D: usize>(
 ) -> Result<()> {
     let start_time = sim.time();
     edmd::check_until(&sim, &args.file, args.until)?;
+    if measuring.is_none() {
+        edmd::measure::Measurements::check(&sim, &args.measure)?;
+    }
     check_stops(args, start_time)?;
     if let Some(m) = &measuring {
         check_samples(args, m)?;

@@ -16,6 +16,7 @@
 //! | [`energy`] | kinetic, potential and total energy; heat capacity in a heat bath | no |
 //! | [`kinetics`] | species counts over time and each reaction rule's rate constant with block errors | yes |
 //! | [`rdf`] | the radial distribution function `g(r)` | no |
+//! | [`viscosity`] | shear viscosity by the Einstein-Helfand route, with block errors; Enskog's viscosity | yes |
 //!
 //! ```
 //! use edmd_core::measure::{Collisions, Pressure};
@@ -50,6 +51,7 @@ pub mod square_well_eos;
 pub mod stats;
 pub mod temperature;
 pub mod theory;
+pub mod viscosity;
 
 pub use collisions::{CollisionBlock, CollisionSummary, Collisions, DiscFlights};
 pub use diffusion::{Diffusion, DiffusionFit};
@@ -63,3 +65,4 @@ pub use stats::{
     block_error, kolmogorov_q, ks_test, linear_fit, variance, Estimate, Histogram, KsTest,
 };
 pub use temperature::{kinetic_temperature, Temperature, TemperatureSummary};
+pub use viscosity::{Viscosity, ViscosityBlock, ViscositySummary};

@@ -18,6 +18,7 @@ pub mod reaction;
 pub mod reversibility;
 pub mod shoulder;
 pub mod square_well;
+pub mod viscosity;
 
 use anyhow::Result;
 use clap::Subcommand;
@@ -68,6 +69,9 @@ pub enum Experiment {
     /// The square-well fluid in a heat bath: Z and the energy per particle against density,
     /// with the exact low-density limits and (3D) Espindola-Heredia et al.'s equation of state.
     SquareWell(square_well::SquareWellArgs),
+    /// The shear viscosity of hard spheres (discs) by the Einstein-Helfand route, against
+    /// Enskog's theory, at several packing fractions.
+    Viscosity(viscosity::ViscosityArgs),
 }
 
 /// Runs an experiment.
@@ -94,6 +98,7 @@ pub fn run(which: &Experiment) -> Result<()> {
         Experiment::Reversibility(a) => reversibility::run(a),
         Experiment::Shoulder(a) => shoulder::run(a),
         Experiment::SquareWell(a) => square_well::run(a),
+        Experiment::Viscosity(a) => viscosity::run(a),
     };
     // The experiments end a stopped run with `Interrupted` themselves; `jamming` writes its
     // results so far and returns, so its exit status is set here.

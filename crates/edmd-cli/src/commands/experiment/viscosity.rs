@@ -1,0 +1,288 @@
+//! `edmd experiment viscosity`: the shear viscosity of the hard-sphere (or, with `--dim 2`,
+//! hard-disc) fluid against Enskog's theory.
+//!
+//! For each packing fraction: N particles in a periodic box, melted, then the Einstein-Helfand
+//! viscosity `eta = lim <Delta G_xy(tau)^2> / (2 V kT tau)` (E. Helfand, Phys. Rev. 119, 1
+//! (1960); B. J. Alder, D. M. Gass and T. E. Wainwright, J. Chem. Phys. 53, 3813 (1970)) from
+//! the engine's observer ([`edmd_core::measure::Viscosity`]: windows up to 10 mean collision
+//! times, the slope fitted over the longer half, blocks of four windows for the error bar),
+//! drawn as `eta / eta_0` against Enskog's `eta_E / eta_0` (Chapman and Cowling (1970) section
+//! 16.41 for spheres, D. M. Gass, J. Chem. Phys. 54, 1898 (1971) for discs), `eta_0` the
+//! dilute gas's first Sonine viscosity, and for spheres Chapman and Cowling's form with the
+//! higher Sonine approximations' factor 1.016 on the kinetic part. Alder, Gass and
+//! Wainwright's factors `eta / eta_E` are not drawn: their table was not at hand to check
+//! (`eta_agw` is `null`).
+
+use anyhow::Result;
+use clap::Args;
+use edmd_core::measure::theory::contact_value;
+use edmd_core::measure::viscosity::{
+    dilute_viscosity, enskog_ratio, enskog_ratio_chapman_cowling, BLOCK_WINDOWS,
+};
+use edmd_core::measure::Viscosity;
+use edmd_core::Boundary;
+use edmd_plot::{Figure, Series};
+use serde::Serialize;
+
+use super::common::{
+    check_count, check_n, check_packings, files_line, interrupted_after, melted_fluid_in, out_dir,
+    report, stop_requested, write_csv, CommonArgs, Progress,
+};
+
+/// Options of `edmd experiment viscosity`.
+#[derive(Debug, Args)]
+pub struct ViscosityArgs {
+    /// Dimension: 3 (spheres) or 2 (discs).
+    #[arg(long, default_value_t = 3, value_parser = crate::args::parse_dim)]
+    pub dim: usize,
+    /// Packing fractions, comma-separated (fluid: at most 0.50 for spheres, below 0.70 for
+    /// discs) [default: spheres 0.1,0.25,0.4; discs 0.1,0.3,0.5].
+    #[arg(long, value_delimiter = ',', allow_negative_numbers = true)]
+    pub packing: Option<Vec<f64>>,
+    /// Number of spheres (discs).
+    #[arg(long, default_value_t = 500, allow_negative_numbers = true)]
+    pub n: usize,
+    /// Collisions per particle to melt before measuring.
+    #[arg(long, default_value_t = 50, allow_negative_numbers = true)]
+    pub melt: u64,
+    /// Blocks to measure over, each four windows of 10 mean collision times (the error bar
+    /// shrinks as one over the square root of the blocks: about 1.5 % for spheres and 3 % for
+    /// discs at 800).
+    #[arg(long, default_value_t = 800, allow_negative_numbers = true)]
+    pub blocks: usize,
+    /// Shared options.
+    #[command(flatten)]
+    pub common: CommonArgs,
+}
+
+/// One packing fraction.
+#[derive(Debug, Serialize)]
+pub struct Point {
+    /// Dimension.
+    pub dim: usize,
+    /// Packing fraction.
+    pub packing: f64,
+    /// Particles.
+    pub n: usize,
+    /// Measured shear viscosity.
+    pub eta: f64,
+    /// Its statistical error (one standard deviation, from the blocks).
+    pub eta_error: f64,
+    /// Enskog's viscosity at the measured kT.
+    pub eta_enskog: f64,
+    /// Chapman and Cowling's Enskog viscosity with the factor 1.016 on the kinetic part
+    /// (spheres only).
+    pub eta_enskog_cc: Option<f64>,
+    /// Enskog's times Alder, Gass and Wainwright's factor: not available (see the module
+    /// documentation), always `null`.
+    pub eta_agw: Option<f64>,
+    /// The dilute gas's first Sonine viscosity at the measured kT, the unit of the figure.
+    pub eta_0: f64,
+    /// Time-averaged kT.
+    pub kt: f64,
+    /// The longest window.
+    pub window: f64,
+    /// The shortest window in the fit.
+    pub fit_from: f64,
+    /// Blocks measured.
+    pub blocks: usize,
+    /// Collisions measured over.
+    pub collisions: u64,
+}
+
+/// The summary.
+#[derive(Debug, Serialize)]
+pub struct Summary {
+    /// Experiment name.
+    pub experiment: &'static str,
+    /// Dimension.
+    pub dim: usize,
+    /// Particles.
+    pub n: usize,
+    /// One entry per packing fraction.
+    pub results: Vec<Point>,
+    /// True if stopped by Ctrl-C early.
+    pub interrupted: bool,
+}
+
+/// Runs the experiment.
+pub fn run(args: &ViscosityArgs) -> Result<()> {
+    match args.dim {
+        2 => run_in::<2>(args),
+        _ => run_in::<3>(args),
+    }
+}
+
+fn run_in<const D: usize>(args: &ViscosityArgs) -> Result<()> {
+    let packings = args.packing.clone().unwrap_or_else(|| {
+        if D == 3 {
+            vec![0.1, 0.25, 0.4]
+        } else {
+            vec![0.1, 0.3, 0.5]
+        }
+    });
+    // Spheres are fluid up to 0.50 (inclusive: the generator makes 0.50), discs below 0.70.
+    check_packings(
+        "viscosity",
+        &packings,
+        if D == 3 { 0.500_000_1 } else { 0.70 },
+    )?;
+    check_n("viscosity", args.n, 16)?;
+    check_count("viscosity", "melt", args.melt, 0, 100_000)?;
+    check_count("viscosity", "blocks", args.blocks as u64, 2, 100_000)?;
+    let dir = out_dir(&args.common)?;
+    let progress = Progress::new((packings.len() * args.blocks) as u64, "viscosity");
+    let mut results = Vec::new();
+    'packings: for (k, &phi) in packings.iter().enumerate() {
+        let Some((mut sim, _)) = melted_fluid_in::<D>(
+            args.n,
+            phi,
+            Boundary::Periodic,
+            args.common.seed + k as u64,
+            args.melt,
+        )?
+        else {
+            break 'packings;
+        };
+        let mut visc = Viscosity::for_fluid(&sim);
+        let (spacing, lags) = visc.grid();
+        let block = spacing * (lags * BLOCK_WINDOWS) as f64;
+        let (t0, c0) = (sim.time(), sim.stats().disc_disc);
+        for b in 0..args.blocks {
+            if stop_requested() {
+                break 'packings;
+            }
+            // A block past its last grid point, so that it closes.
+            let t = t0 + (b + 1) as f64 * block + 0.5 * spacing;
+            if !edmd::run_until_or_stop(&mut sim, t, &mut visc)? {
+                break 'packings;
+            }
+            progress.set((k * args.blocks + b + 1) as u64);
+        }
+        visc.sample(&sim);
+        let s = visc.summary();
+        let eta_0 = dilute_viscosity(D, 1.0, s.kt, 1.0);
+        let chi = contact_value(phi, D);
+        results.push(Point {
+            dim: D,
+            packing: phi,
+            n: args.n,
+            eta: s.eta.value,
+            eta_error: s.eta.error,
+            eta_enskog: s.eta_enskog,
+            eta_enskog_cc: (D == 3).then(|| enskog_ratio_chapman_cowling(phi, chi) * eta_0),
+            eta_agw: None,
+            eta_0,
+            kt: s.kt,
+            window: s.window,
+            fit_from: s.fit_from,
+            blocks: s.eta.blocks,
+            collisions: sim.stats().disc_disc - c0,
+        });
+    }
+    progress.finish();
+    let interrupted = results.len() < packings.len();
+    let what = if D == 3 { "spheres" } else { "discs" };
+    let csv = dir.join("viscosity.csv");
+    write_csv(
+        &csv,
+        &[
+            "packing",
+            "eta",
+            "eta_error",
+            "eta_0",
+            "eta_enskog",
+            "eta_enskog_cc",
+            "eta_over_eta0",
+            "eta_error_over_eta0",
+            "kT",
+        ],
+        results.iter().map(|p| {
+            vec![
+                p.packing,
+                p.eta,
+                p.eta_error,
+                p.eta_0,
+                p.eta_enskog,
+                p.eta_enskog_cc.unwrap_or(f64::NAN),
+                p.eta / p.eta_0,
+                p.eta_error / p.eta_0,
+                p.kt,
+            ]
+        }),
+    )?;
+    let top = packings.iter().cloned().fold(0.0, f64::max);
+    let grid = |f: &dyn Fn(f64) -> f64| -> Vec<(f64, f64)> {
+        (1..=500)
+            .map(|i| top * i as f64 / 500.0)
+            .map(|phi| (phi, f(phi)))
+            .collect()
+    };
+    let mut figure = Figure::new(
+        &format!(
+            "Shear viscosity of hard {what} ({} {what}, periodic)",
+            args.n
+        ),
+        "packing fraction phi",
+        "eta / eta_0",
+    )
+    .with(Series::line(
+        if D == 3 {
+            "Enskog (Chapman and Cowling, first Sonine)"
+        } else {
+            "Enskog (Gass 1971)"
+        },
+        grid(&|phi| enskog_ratio(D, phi, contact_value(phi, D))),
+    ));
+    if D == 3 {
+        figure = figure.with(Series::line(
+            "Enskog with the 1.016 factor (Chapman and Cowling)",
+            grid(&|phi| enskog_ratio_chapman_cowling(phi, contact_value(phi, 3))),
+        ));
+    }
+    let (png, svg) = figure
+        .with(Series::error_bars(
+            "edmd, Einstein-Helfand",
+            results
+                .iter()
+                .map(|p| (p.packing, p.eta / p.eta_0))
+                .collect(),
+            results.iter().map(|p| p.eta_error / p.eta_0).collect(),
+        ))
+        .save(&dir.join("viscosity"))?;
+    let mut human = format!(
+        "shear viscosity, {} {what}, periodic box (units: diameter, mass, kT = 1):\n  packing       eta     error    Enskog  eta/Enskog   eta/eta_0\n",
+        args.n
+    );
+    for p in &results {
+        human += &format!(
+            "  {:7.3}  {:8.4}  {:8.4}  {:8.4}  {:10.3}  {:10.3}\n",
+            p.packing,
+            p.eta,
+            p.eta_error,
+            p.eta_enskog,
+            p.eta / p.eta_enskog,
+            p.eta / p.eta_0
+        );
+    }
+    if interrupted {
+        human += "interrupted: results so far\n";
+    }
+    let files = [csv, png, svg];
+    human += &files_line(&files);
+    report(
+        &args.common,
+        &Summary {
+            experiment: "viscosity",
+            dim: D,
+            n: args.n,
+            results,
+            interrupted,
+        },
+        &human,
+    )?;
+    if interrupted {
+        return interrupted_after(&files);
+    }
+    Ok(())
+}
