@@ -48,6 +48,6 @@ pub use simulation::{
     MAX_BARRIERS, OVERLAP_ROUNDING, OVERLAP_TOLERANCE,
 };
 pub use state::{
-    species_colour, Barrier, Boundary, Colour, Demon, Disc, Gravity, PairSteps, Potential, Reaction,
-    Reactions, Restitution, RestitutionLaw, SimBox, Step, System, MAX_REACTION_SPECIES,
+    species_colour, Barrier, Boundary, Colour, Demon, Disc, Gravity, PairSteps, Potential,
+    Reaction, Reactions, Restitution, RestitutionLaw, SimBox, Step, System, MAX_REACTION_SPECIES,
 };

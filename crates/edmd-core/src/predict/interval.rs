@@ -71,13 +71,21 @@ pub fn interval_exit_accel_or_inf(x: f64, v: f64, g: f64, lo: f64, hi: f64) -> (
     // any (none when the coordinate turns before `hi`, or `hi` is infinite).
     let c = (x - hi).min(0.0);
     let disc = v * v - 4.0 * a * c;
-    let t_hi = select(c == 0.0, 0.0, (-2.0 * c / (v + disc.max(0.0).sqrt())).max(0.0));
+    let t_hi = select(
+        c == 0.0,
+        0.0,
+        (-2.0 * c / (v + disc.max(0.0).sqrt())).max(0.0),
+    );
     let reaches_hi = hi.is_finite() && disc >= 0.0;
     // Turned back (`g < 0`) through `x` to `lo`: `c = x - lo >= 0` and `a < 0` give one root at
     // or after 0 (`+inf` for an infinite `lo`).
     let c = (x - lo).max(0.0);
     let disc = v * v - 4.0 * a * c;
-    let t_lo = select(g < 0.0, (v + disc.max(0.0).sqrt()) / (-2.0 * a), f64::INFINITY);
+    let t_lo = select(
+        g < 0.0,
+        (v + disc.max(0.0).sqrt()) / (-2.0 * a),
+        f64::INFINITY,
+    );
     let dt = select(reaches_hi, t_hi, t_lo);
     let dt = select(dt.is_nan(), f64::INFINITY, dt);
     // Mirrored back: the end reached upwards in `-x` is `lo`.
