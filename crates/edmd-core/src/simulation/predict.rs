@@ -312,8 +312,16 @@ impl<const D: usize> Simulation<D> {
             }
             nearest = scan.nearest;
         }
-        let own = best;
-        let (best_t, partner, second_t, second_partner) = nearest.settle();
+        let settled = nearest.settle();
+        self.schedule(i, best, settled);
+    }
+
+    /// Schedules disc `i`'s earliest event: the pair the scan `settled` on, if any, else its
+    /// own event `own` (which, in 3D, stands second behind a pair when no second pair did).
+    #[inline(always)]
+    fn schedule(&mut self, i: usize, own: Pending, settled: (f64, u32, f64, u32)) {
+        let (best_t, partner, second_t, second_partner) = settled;
+        let mut best = own;
         if partner != NO_PARTNER {
             best = Pending::Disc {
                 partner,
@@ -354,7 +362,7 @@ impl<const D: usize> Simulation<D> {
             let b = &self.body[i];
             (b.pos, b.vel, b.radius)
         };
-        let (best_t, mut best) = self.own_event_in_field(i, t0, pos, vel, f);
+        let (best_t, best) = self.own_event_in_field(i, t0, pos, vel, f);
         let nearest = Nearest::new(t0, best_t, &mut self.kept);
         let c = self.grid.cell_of(i);
         let mut scan = FieldCandidates::<D, FAR> {
@@ -373,29 +381,8 @@ impl<const D: usize> Simulation<D> {
         } else {
             self.grid.visit_near(c, &mut scan);
         }
-        let own = best;
-        let (best_t, partner, second_t, second_partner) = scan.nearest.settle();
-        if partner != NO_PARTNER {
-            best = Pending::Disc {
-                partner,
-                seen: self.body[partner as usize].count,
-            };
-            if D == 3 {
-                let second = if second_partner != NO_PARTNER {
-                    Pending::Disc {
-                        partner: second_partner,
-                        seen: self.body[second_partner as usize].count,
-                    }
-                } else {
-                    own
-                };
-                self.second[i] = (second_t, second);
-            }
-        } else if D == 3 {
-            self.second[i] = (f64::INFINITY, Pending::Nothing);
-        }
-        self.body[i].pending = best;
-        self.queue.set(i, best_t);
+        let settled = scan.nearest.settle();
+        self.schedule(i, best, settled);
     }
 }
 
