@@ -129,7 +129,7 @@ impl<const D: usize> Simulation<D> {
         // with reaction rules alone a copy that differs only in its pair events (its
         // predictions are the hard cores': the extras' copy cost 12% more per collision in 2D
         // at N = 10^4).
-        let extras = self.steps.is_some() || self.bath.is_some() || self.gravity.is_some();
+        let extras = self.needs_extras();
         let react = !extras && self.has_rule();
         #[cfg(target_arch = "x86_64")]
         if self.v3 {
@@ -215,7 +215,14 @@ impl<const D: usize> Simulation<D> {
     /// one-event paths; `run_chunk` gives reactions or restitution alone a copy of their own).
     #[inline(always)]
     pub(super) fn has_extras(&self) -> bool {
-        self.steps.is_some() || self.bath.is_some() || self.gravity.is_some() || self.has_rule()
+        self.needs_extras() || self.has_rule()
+    }
+
+    /// Whether the chunks must run the extras' copy of the loop: a stepped potential, a
+    /// thermostat or a field (reactions or restitution alone have a copy of their own).
+    #[inline(always)]
+    fn needs_extras(&self) -> bool {
+        self.steps.is_some() || self.bath.is_some() || self.gravity.is_some()
     }
 
     /// Whether collisions follow a rule other than the hard cores' elastic one: reactions or

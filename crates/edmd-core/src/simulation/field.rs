@@ -92,7 +92,6 @@ impl<const D: usize> Simulation<D> {
         }
         self.event_time = now;
         self.gravity = gravity;
-        self.creep_span = self.creep_span();
         self.schedule_all();
         Ok(())
     }
