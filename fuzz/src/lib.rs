@@ -450,7 +450,7 @@ impl<const D: usize> Observer<D> for Watch {
         let k = match e.kind {
             EventKind::DiscDisc { .. } | EventKind::Reaction { .. } => 0,
             EventKind::Wall { .. } => 1,
-            EventKind::CellCrossing { .. } => 2,
+            EventKind::CellCrossing { .. } | EventKind::Slide { .. } => 2,
             EventKind::Barrier { .. } => 3,
             EventKind::Step { .. } => 4,
             EventKind::Thermostat { .. } => 5,

@@ -117,6 +117,10 @@ pub enum Error {
     /// (a disc would fall for ever), or a field with what it does not go with.
     #[error("gravity: {0}")]
     BadField(String),
+    /// Lees-Edwards boundaries that cannot be: a rate not finite, an offset outside the box,
+    /// a walled x or y axis, or shear with what it does not go with.
+    #[error("shear: {0}")]
+    BadShear(String),
     /// A time beyond what the clock resolves for these discs (see
     /// [`crate::Simulation::clock_limit`]).
     #[error(

@@ -69,7 +69,14 @@ pub enum EventKind {
         /// The disc.
         i: usize,
     },
-    /// Disc `i` moved into a neighbouring cell (bookkeeping; no velocity change).
+    /// Under shear, the images across y slid one more cell width, and disc `i`, in a row of
+    /// cells next to that boundary, looked at them again (bookkeeping; no velocity change).
+    Slide {
+        /// The disc.
+        i: usize,
+    },
+    /// Disc `i` moved into a neighbouring cell (bookkeeping; no velocity change; under shear,
+    /// a crossing of the y boundary changes its x and x velocity to the images').
     CellCrossing {
         /// The disc.
         i: usize,
@@ -81,12 +88,14 @@ pub enum EventKind {
 }
 
 impl EventKind {
-    /// Whether this is bookkeeping that changes no velocity: a cell crossing, or a neighbour
-    /// list made again.
+    /// Whether this is bookkeeping that changes no velocity: a cell crossing, a neighbour
+    /// list made again, or a slide of the sheared images.
     pub fn is_bookkeeping(&self) -> bool {
         matches!(
             self,
-            EventKind::CellCrossing { .. } | EventKind::NeighbourList { .. }
+            EventKind::CellCrossing { .. }
+                | EventKind::NeighbourList { .. }
+                | EventKind::Slide { .. }
         )
     }
 }
@@ -145,4 +154,6 @@ pub(crate) enum Pending {
     Thermostat,
     /// Its neighbour list made again (stepped potentials).
     Relist,
+    /// The end of the shear's epoch: its scan across the sliding boundary made again.
+    Slide,
 }

@@ -27,8 +27,8 @@ pub(crate) struct Kind {
 /// A run's checkpoint (`edmd run`).
 pub(crate) const RUN: Kind = Kind {
     magic: b"EDMDCKPT",
-    version: 7,
-    older: &[1, 2, 3, 4, 5, 6],
+    version: 8,
+    older: &[1, 2, 3, 4, 5, 6, 7],
     name: "a run checkpoint (edmd run continues it)",
 };
 

@@ -83,6 +83,7 @@ impl<const D: usize> Observer<D> for CollisionCounter {
             EventKind::Step { .. }
             | EventKind::Thermostat { .. }
             | EventKind::NeighbourList { .. }
+            | EventKind::Slide { .. }
             | EventKind::CellCrossing { .. } => {}
         }
     }

@@ -51,6 +51,7 @@ impl Observer for Watchdog {
             EventKind::Step { .. }
             | EventKind::Thermostat { .. }
             | EventKind::NeighbourList { .. }
+            | EventKind::Slide { .. }
             | EventKind::CellCrossing { .. } => {}
         }
     }

@@ -15,6 +15,7 @@ mod pack;
 mod pack_checkpoint;
 mod physics;
 mod reactions;
+mod shear;
 mod stall;
 mod stepped;
 mod thermostat;

@@ -265,6 +265,9 @@ impl<const D: usize> ViewerApp<D> {
                         format!("{one} {i} meets barrier {barrier}")
                     }
                     EventKind::CellCrossing { i, .. } => format!("{one} {i} changes cell"),
+                    EventKind::Slide { i } => {
+                        format!("{one} {i} looks again across the sliding boundary")
+                    }
                     EventKind::NeighbourList { i } => {
                         format!("{one} {i}'s neighbour list is made again")
                     }

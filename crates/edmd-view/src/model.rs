@@ -90,6 +90,7 @@ impl<const D: usize> Observer<D> for Trails<D> {
             | EventKind::Barrier { i, .. }
             | EventKind::Thermostat { i }
             | EventKind::NeighbourList { i }
+            | EventKind::Slide { i }
             | EventKind::CellCrossing { i, .. } => (i, None),
         };
         for k in 0..self.tagged.len() {

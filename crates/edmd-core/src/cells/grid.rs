@@ -557,6 +557,105 @@ impl<const D: usize> CellGrid<D> {
         }
     }
 
+    /// Calls `f.visit(j, shift)` for every disc `j` filed in cell `k` (a linear index from
+    /// [`Self::for_each_cell_sheared`]).
+    #[inline(always)]
+    pub(crate) fn visit_cell(&self, k: usize, shift: Vector<D>, f: &mut impl Visit<D>) {
+        let mut j = self.head[k];
+        while j != NONE {
+            f.visit(j as usize, shift);
+            j = self.next[j as usize];
+        }
+    }
+
+    /// [`Self::for_each_cell_near`] for a cell `c` in the top (`above = true`) or bottom row
+    /// along y under Lees-Edwards boundaries, whose images across y have slid along x by
+    /// `slid` cell widths (`slid = k + frac`, `k` reduced modulo the columns, `0 <= frac < 1`
+    /// as long as the images slide no further than the next whole cell):
+    /// `f(cell, shift, across)`. The cells on this side are those of the plain scan; across
+    /// the boundary, the four columns (times three along z in 3D) that the slid images of
+    /// the other row's discs can bring within a cell width of `c`'s column while `slid` stays
+    /// in `[k, k + 1]`, each with its image shift (`+-L_y` along y, the slide and any wrap
+    /// along x).
+    pub(crate) fn for_each_cell_sheared(
+        &self,
+        c: CellCoord<D>,
+        above: bool,
+        k: i64,
+        frac: f64,
+        mut f: impl FnMut(usize, Vector<D>, bool),
+    ) {
+        let across = if above { 1 } else { -1 };
+        let mut term = [[0usize; 3]; D];
+        let mut shift_of = [[0.0f64; 3]; D];
+        let mut exists = [[true; 3]; D];
+        for a in 0..D {
+            let d = self.dims[a] as i64;
+            for m in 0..3 {
+                let mut x = c[a] as i64 + m as i64 - 1;
+                if x < 0 || x >= d {
+                    exists[a][m] = self.periodic[a];
+                    shift_of[a][m] = if x < 0 {
+                        -self.lengths[a]
+                    } else {
+                        self.lengths[a]
+                    };
+                    x = x.rem_euclid(d);
+                }
+                term[a][m] = x as usize * self.stride[a];
+            }
+        }
+        'cells: for off in &self.offsets[..Self::NEIGHBOURS] {
+            if off[1] == across {
+                continue;
+            }
+            let mut k = 0usize;
+            let mut shift = Vector::ZERO;
+            for a in 0..D {
+                let m = (off[a] + 1) as usize;
+                if !exists[a][m] {
+                    continue 'cells;
+                }
+                k += term[a][m];
+                shift[a] = shift_of[a][m];
+            }
+            f(k, shift, false);
+        }
+        // Across: the images above are shifted by +slid cells, those below by -slid. A disc
+        // in column m of the other row has its image in columns m + slid (above) or m - slid
+        // (below), which reach within a cell of column c for m = c - k - 2 ..= c - k + 1
+        // (above) or c + k - 1 ..= c + k + 2 (below).
+        let (nx, width) = (self.dims[0] as i64, self.width[0]);
+        let row = if above { 0 } else { self.dims[1] as usize - 1 };
+        let (first, sign) = if above { (-2, 1.0) } else { (-1, -1.0) };
+        let cx = c[0] as i64;
+        let mut z_cells = [(0usize, 0.0f64); 3];
+        let mut z_count = 1;
+        if D == 3 {
+            z_count = 0;
+            for m in 0..3 {
+                if exists[2][m] {
+                    z_cells[z_count] = (term[2][m], shift_of[2][m]);
+                    z_count += 1;
+                }
+            }
+        }
+        for o in first..first + 4 {
+            let m = if above { cx - k + o } else { cx + k + o };
+            let col = m.rem_euclid(nx);
+            let mut shift = Vector::ZERO;
+            shift[0] = ((cx + o - col) as f64 + sign * frac) * width;
+            shift[1] = sign * self.lengths[1];
+            for &(zt, zs) in &z_cells[..z_count] {
+                if D == 3 {
+                    shift[2] = zs;
+                }
+                let k = col as usize * self.stride[0] + row * self.stride[1] + zt;
+                f(k, shift, true);
+            }
+        }
+    }
+
     /// The cells' first four discs ([`Self::first`]; 3D) and the lists' links.
     #[inline(always)]
     pub(crate) fn first_and_next(&self) -> (&[[u32; 4]], &[u32]) {

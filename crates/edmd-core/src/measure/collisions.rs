@@ -262,6 +262,7 @@ impl<const D: usize> Observer<D> for Collisions {
             EventKind::Step { .. }
             | EventKind::Thermostat { .. }
             | EventKind::NeighbourList { .. }
+            | EventKind::Slide { .. }
             | EventKind::CellCrossing { .. } => {}
         }
     }

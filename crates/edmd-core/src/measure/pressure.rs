@@ -206,9 +206,13 @@ impl<const D: usize> Observer<D> for Pressure {
             EventKind::DiscDisc { i, j }
             | EventKind::Reaction { i, j, .. }
             | EventKind::Step { i, j, .. } => {
-                let r_ij = sim
-                    .sim_box()
-                    .minimum_image(sim.position(i) - sim.position(j));
+                // Under shear a pair across y meets at its slid image.
+                let r_ij = if sim.shear().is_some() {
+                    -sim.separation(i, j).0
+                } else {
+                    sim.sim_box()
+                        .minimum_image(sim.position(i) - sim.position(j))
+                };
                 self.block_virial += r_ij.dot(e.impulse);
             }
             EventKind::Wall { wall, .. } => self.block_wall += e.impulse[wall.axis].abs(),
@@ -217,6 +221,7 @@ impl<const D: usize> Observer<D> for Pressure {
             EventKind::Barrier { .. }
             | EventKind::Thermostat { .. }
             | EventKind::NeighbourList { .. }
+            | EventKind::Slide { .. }
             | EventKind::CellCrossing { .. } => {}
         }
     }

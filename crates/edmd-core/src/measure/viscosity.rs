@@ -559,7 +559,9 @@ impl<const D: usize> Observer<D> for Viscosity {
             // Refused before measuring (`unsupported`); a wall's or barrier's impulse is no
             // pair's, so it is left out rather than taken for one.
             EventKind::Wall { i, .. } | EventKind::Barrier { i, .. } => (i, None),
-            EventKind::NeighbourList { .. } | EventKind::CellCrossing { .. } => {
+            EventKind::NeighbourList { .. }
+            | EventKind::CellCrossing { .. }
+            | EventKind::Slide { .. } => {
                 self.advance_to(e.time);
                 return;
             }

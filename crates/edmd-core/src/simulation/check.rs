@@ -17,7 +17,7 @@ impl<const D: usize> Simulation<D> {
         let speed = |k: usize| self.velocity_of(k, now).norm2().sqrt();
         for i in 0..self.len() {
             let pi = self.position_of(i, now);
-            self.grid.for_each_near(self.grid.cell_of(i), |j, shift| {
+            self.for_each_neighbour(i, now, |j, shift, _| {
                 if j <= i {
                     return;
                 }
@@ -82,13 +82,13 @@ impl<const D: usize> Simulation<D> {
             let bi = &self.body[i];
             let pi = self.position_of(i, t0);
             let vi = self.velocity_of(i, t0);
-            self.grid.for_each_near(self.grid.cell_of(i), |j, shift| {
+            self.for_each_neighbour(i, t0, |j, shift, dv| {
                 if j <= i || missed.is_some() {
                     return;
                 }
                 let bj = &self.body[j];
                 let dr = self.position_of(j, t0) + shift - pi;
-                let vj = self.velocity_of(j, t0);
+                let vj = self.velocity_of(j, t0) + dv;
                 let dv = vj - vi;
                 let sigma = bi.radius + bj.radius;
                 let terms = contact_terms::<D, true>(dr, dv, sigma);

@@ -222,7 +222,10 @@ impl<const D: usize> Simulation<D> {
     /// thermostat or a field (reactions or restitution alone have a copy of their own).
     #[inline(always)]
     fn needs_extras(&self) -> bool {
-        self.steps.is_some() || self.bath.is_some() || self.gravity.is_some()
+        self.steps.is_some()
+            || self.bath.is_some()
+            || self.gravity.is_some()
+            || self.shear.is_some()
     }
 
     /// Whether collisions follow a rule other than the hard cores' elastic one: reactions or
@@ -295,6 +298,9 @@ impl<const D: usize> Simulation<D> {
                 Pending::Disc { partner, .. } if EXTRAS && self.steps.is_some() => {
                     self.collide_stepped(i, partner as usize, t)
                 }
+                Pending::Disc { partner, .. } if EXTRAS && self.shear.is_some() => {
+                    self.collide_sheared(i, partner as usize, t)
+                }
                 Pending::Disc { partner, .. } if (REACT || EXTRAS) && self.has_rule() => {
                     if self.dissipation.is_some() {
                         self.collide_inelastic(i, partner as usize, t)
@@ -312,6 +318,9 @@ impl<const D: usize> Simulation<D> {
                 Pending::Wall { axis, side } => {
                     (self.bounce(i, axis as usize, side, t), [i, NO_DISC])
                 }
+                Pending::Cell { axis, side } if EXTRAS && self.shear.is_some() => {
+                    (self.cross_sheared(i, axis as usize, side, t), [i, NO_DISC])
+                }
                 Pending::Cell { axis, side } => {
                     (self.cross(i, axis as usize, side, t), [i, NO_DISC])
                 }
@@ -320,8 +329,10 @@ impl<const D: usize> Simulation<D> {
                 }
                 Pending::Thermostat => (self.redraw(i, t), [i, NO_DISC]),
                 Pending::Relist if EXTRAS => (self.relist(i, t), [i, NO_DISC]),
-                // Only a stepped potential (`EXTRAS`) has neighbour lists.
-                Pending::Nothing | Pending::Relist => {
+                Pending::Slide if EXTRAS => (self.slide(i, t), [i, NO_DISC]),
+                // Only a stepped potential (`EXTRAS`) has neighbour lists, and only shear
+                // (`EXTRAS`) slides.
+                Pending::Nothing | Pending::Relist | Pending::Slide => {
                     unreachable!("finite time with nothing pending")
                 }
             };

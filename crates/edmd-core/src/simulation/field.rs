@@ -113,6 +113,9 @@ impl<const D: usize> Simulation<D> {
         if self.multi.is_some() {
             return refuse("a field does not go with multi-disc collisions");
         }
+        if self.shear.is_some() {
+            return refuse("a field does not go with shear");
+        }
         if let Some(d) = &self.dissipation {
             grains_in_field(&d.restitution).map_err(Error::BadField)?;
         }

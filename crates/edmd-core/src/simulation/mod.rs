@@ -41,6 +41,7 @@ mod predict;
 mod reactions;
 #[cfg(target_arch = "x86_64")]
 mod scan_x86;
+mod shear;
 mod stall;
 mod steps;
 mod thermostat;
@@ -170,6 +171,8 @@ pub struct Simulation<const D: usize = 2> {
     dissipation: Option<Box<inelastic::Dissipation>>,
     /// A uniform field; `None`: discs fly straight.
     gravity: Option<Gravity>,
+    /// Lees-Edwards boundaries; `None`: plain periodic images (or walls).
+    shear: Option<Box<shear::LeesEdwards>>,
     /// Event counts (last: the fields above keep their places as counts are added).
     stats: Stats,
 }
@@ -407,6 +410,7 @@ impl<const D: usize> Simulation<D> {
             chemistry: None,
             dissipation: None,
             gravity: None,
+            shear: None,
         };
         sim.check_clock(t0)?;
         sim.set_portable_loop(false);
@@ -510,11 +514,16 @@ impl<const D: usize> Simulation<D> {
     }
 
     /// Position of disc `i` at the current time, not folded back into the box: the displacement
-    /// since time 0 is `unwrapped_position(i) - initial position`.
+    /// since time 0 is `unwrapped_position(i) - initial position`. Under shear a disc that has
+    /// crossed the y boundary `n` times (up less down) is `n` images up, each slid by the
+    /// images' offset (counted from when the shear was set, without wrapping).
     pub fn unwrapped_position(&self, i: usize) -> Vector<D> {
         let mut p = self.position_of(i, self.now);
         for a in 0..D {
             p[a] += self.image[i][a] as f64 * self.sim_box.lengths[a];
+        }
+        if let Some(s) = self.shear.as_deref() {
+            p[0] += self.image[i][1] as f64 * s.slide(self.now);
         }
         p
     }
@@ -660,14 +669,17 @@ impl<const D: usize> Simulation<D> {
         let fall = self
             .gravity
             .map_or(0.0, |f| 2.0 * f.g.abs() * self.sim_box.lengths[f.axis]);
+        // Under shear, pairs across y close at up to the images' speed more.
+        let slide = self.shear.as_deref().map_or(0.0, |s| s.speed.abs());
         let v_max = (self
             .body
             .iter()
             .map(|b| b.vel.norm2())
             .fold(0.0, f64::max)
             .sqrt()
-            + fall.sqrt())
-        .max(0.0);
+            + fall.sqrt()
+            + slide)
+            .max(0.0);
         let sigma_min = self
             .body
             .iter()

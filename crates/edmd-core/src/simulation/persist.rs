@@ -31,8 +31,8 @@ use crate::frame::{self, Reader, Writer};
 /// The first bytes of every checkpoint.
 pub const MAGIC: &[u8; 8] = frame::RUN.magic;
 
-/// The checkpoint format this build writes. It reads this one, version 6 (which had no
-/// restitution), version 5 (which had no reaction rules), version 4 (whose stepped
+/// The checkpoint format this build writes. It reads this one, version 7 (which had no
+/// shear), version 6 (which had no restitution or field), version 5 (which had no reaction rules), version 4 (whose stepped
 /// potentials kept their discs' cells by position, with no neighbour lists: such a run
 /// continues with its discs at the last event time and their lists made there, every event
 /// predicted afresh, which is a faithful continuation but not the bits a version-4 build would
@@ -76,6 +76,7 @@ fn describe(p: Pending) -> String {
         Pending::Disc { partner, .. } => format!("collision with disc {partner}"),
         Pending::Thermostat => "thermostat redraw".into(),
         Pending::Relist => "neighbour list's renewal".into(),
+        Pending::Slide => "slide of the sheared images".into(),
         Pending::Nothing => "no event".into(),
     }
 }
@@ -106,6 +107,7 @@ fn write_pending(w: &mut Writer, p: Pending) {
         }
         Pending::Thermostat => w.u8(5),
         Pending::Relist => w.u8(6),
+        Pending::Slide => w.u8(7),
     }
 }
 
@@ -161,6 +163,7 @@ fn read_pending<const D: usize>(
         }
         5 => Pending::Thermostat,
         6 => Pending::Relist,
+        7 => Pending::Slide,
         x => return bad(format!("disc {i}: event code {x}")),
     };
     Ok(pending)
@@ -413,6 +416,16 @@ impl<const D: usize> Simulation<D> {
                 w.u8(1);
                 w.u32(f.axis as u32);
                 w.f64(f.g);
+            }
+        }
+        // The shear (format 8).
+        match self.shear.as_deref() {
+            None => w.u8(0),
+            Some(s) => {
+                w.u8(1);
+                w.f64(s.rate);
+                w.f64(s.origin);
+                w.f64(s.start);
             }
         }
         w.bytes(extra);
@@ -875,6 +888,10 @@ impl<const D: usize> Simulation<D> {
             f.validate(D).or_else(|e| bad(e.to_string()))?;
             gravity = Some(f);
         }
+        let mut shear_read = None;
+        if version >= 8 && r.flag("shear")? {
+            shear_read = Some((r.f64()?, r.f64()?, r.f64()?));
+        }
         let extra = r.bytes()?.to_vec();
         if !r.at_end() {
             return bad("bytes after the end of the state");
@@ -888,6 +905,28 @@ impl<const D: usize> Simulation<D> {
         if shells_v4.is_none() {
             grid.restore(head, next, prev, cell)
                 .map_err(|what| Error::Checkpoint(format!("cell grid: {what}")))?;
+        }
+        let mut shear = None;
+        if let Some((rate, origin, start)) = shear_read {
+            let columns = grid.dims()[0];
+            if !(origin.is_finite()
+                && origin <= event_time
+                && start >= 0.0
+                && start < f64::from(columns))
+            {
+                return bad(format!("shear from t = {origin} at {start} cells"));
+            }
+            let width = sim_box.lengths[0] / f64::from(columns);
+            let s = crate::state::Shear {
+                rate,
+                offset: (start * width).min(sim_box.lengths[0].next_down()),
+            };
+            s.validate(D, sim_box.lengths[0])
+                .or_else(|e| bad(e.to_string()))?;
+            let mut le = super::shear::LeesEdwards::new(s, origin, columns, sim_box.lengths);
+            // The cells slid as written, to the bit (not through the offset).
+            le.start = start;
+            shear = Some(Box::new(le));
         }
         let mut queue = super::new_queue::<D>(n);
         queue.begin_bulk();
@@ -935,9 +974,13 @@ impl<const D: usize> Simulation<D> {
             chemistry,
             dissipation,
             gravity,
+            shear,
         };
         if let Some(f) = sim.gravity {
             sim.gravity_fits(f).or_else(|e| bad(e.to_string()))?;
+        }
+        if sim.shear.is_some() {
+            sim.shear_fits().or_else(|e| bad(e.to_string()))?;
         }
         if sim.chemistry.is_some() {
             sim.reactions_fit().or_else(|e| bad(e.to_string()))?;
@@ -963,7 +1006,8 @@ impl<const D: usize> Simulation<D> {
             || sim.bath.is_some()
             || sim.chemistry.as_ref().is_some_and(|c| c.heat != 0.0)
             || sim.dissipation.as_ref().is_some_and(|d| d.lost != 0.0)
-            || sim.gravity.is_some();
+            || sim.gravity.is_some()
+            || sim.shear.is_some();
         if !(mean_mv2.is_finite() && (stepped || (mean_mv2 - now_mv2).abs() <= 1e-6 * now_mv2)) {
             return bad(format!(
                 "mean m v^2 {mean_mv2}, where the discs' kinetic energy gives {now_mv2}"
@@ -1039,6 +1083,7 @@ impl<const D: usize> Simulation<D> {
                         | Pending::Wall { .. }
                         | Pending::Barrier { .. }
                         | Pending::Thermostat
+                        | Pending::Slide
                 );
                 if own_kind && (t, pending) != (bound, own) {
                     return bad(format!(

@@ -79,6 +79,9 @@ impl<const D: usize> Simulation<D> {
         if let Some(f) = self.gravity {
             return self.own_event_in_field(i, bi.time, bi.pos, bi.vel, f);
         }
+        if self.shear.is_some() {
+            return self.own_event_sheared(i, bi.time, bi.pos, bi.vel);
+        }
         let (mut best_t, mut best) = (f64::INFINITY, Pending::Nothing);
         if let Some(steps) = self.steps.as_deref() {
             let dt = super::steps::leash_time(steps, bi.pos, bi.vel, i);
@@ -201,6 +204,9 @@ impl<const D: usize> Simulation<D> {
         if EXTRAS && self.gravity.is_some() {
             return self.predict_in_field::<FAR>(i);
         }
+        if EXTRAS && self.shear.is_some() {
+            return self.predict_sheared::<FAR>(i);
+        }
         self.body[i].advance_to(t0);
         // The fields read, not a copy of the record: the copy, just after `advance_to` wrote
         // the record, was made with wide loads that the stores could not forward to.
@@ -319,7 +325,7 @@ impl<const D: usize> Simulation<D> {
     /// Schedules disc `i`'s earliest event: the pair the scan `settled` on, if any, else its
     /// own event `own` (which, in 3D, stands second behind a pair when no second pair did).
     #[inline(always)]
-    fn schedule(&mut self, i: usize, own: Pending, settled: (f64, u32, f64, u32)) {
+    pub(super) fn schedule(&mut self, i: usize, own: Pending, settled: (f64, u32, f64, u32)) {
         let (best_t, partner, second_t, second_partner) = settled;
         let mut best = own;
         if partner != NO_PARTNER {
@@ -525,7 +531,7 @@ impl<'a> Nearest<'a> {
     /// The earliest time and its partner (`NO_PARTNER` if no pair beats the time given to
     /// [`Self::new`]).
     #[inline(always)]
-    fn settle(mut self) -> (f64, u32, f64, u32) {
+    pub(super) fn settle(mut self) -> (f64, u32, f64, u32) {
         self.roots();
         (self.best_t, self.partner, self.second_t, self.second)
     }

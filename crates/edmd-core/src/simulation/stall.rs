@@ -225,7 +225,9 @@ impl<const D: usize> Simulation<D> {
                 .fold(f64::INFINITY, f64::min);
         let m_min = self.mass.iter().copied().fold(f64::INFINITY, f64::min);
         // mean_mv2 = 4 KE / n, so the fastest speed is sqrt(2 KE / m_min).
-        let v_max = (self.mean_mv2 * n as f64 / (2.0 * m_min)).sqrt();
+        // Under shear, pairs across y close at up to the images' speed more.
+        let slide = self.shear.as_deref().map_or(0.0, |s| s.speed.abs());
+        let v_max = (self.mean_mv2 * n as f64 / (2.0 * m_min)).sqrt() + slide;
         let span = STALL_CHUNK as f64 * CREEP_EVENTS_SPAN * sigma_min / v_max;
         if span.is_finite() && span > 0.0 {
             span
@@ -265,6 +267,7 @@ impl<const D: usize> Simulation<D> {
                 | EventKind::Barrier { i, .. }
                 | EventKind::Thermostat { i }
                 | EventKind::NeighbourList { i }
+                | EventKind::Slide { i }
                 | EventKind::CellCrossing { i, .. } => discs.push(i),
             }
             discs.extend(self.last_cluster.iter().copied());

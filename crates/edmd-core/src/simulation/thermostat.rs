@@ -117,13 +117,17 @@ impl<const D: usize> Simulation<D> {
         let mut rng = stream(a.seed, i, bath.count[i]);
         let m = self.mass[i];
         let sd = (a.kt / m).sqrt();
-        let v = Vector::<D>(std::array::from_fn(|_| {
+        let mut v = Vector::<D>(std::array::from_fn(|_| {
             let z: f64 = StandardNormal.sample(&mut rng);
             z * sd
         }));
         bath.next[i] = t + a.interval(&mut rng);
         let b = &mut self.body[i];
         b.advance_to(t);
+        // Under shear the velocity is drawn about the streaming profile at the disc's height.
+        if let Some(s) = self.shear.as_deref() {
+            v[0] += s.stream(b.pos[1]);
+        }
         let impulse = (v - b.vel) * m;
         b.vel = v;
         b.count = b.count.wrapping_add(1);

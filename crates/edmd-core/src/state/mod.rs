@@ -6,6 +6,7 @@ pub mod gravity;
 pub mod potential;
 pub mod reaction;
 pub mod restitution;
+pub mod shear;
 pub mod sim_box;
 
 pub use barrier::{Barrier, Demon};
@@ -14,6 +15,7 @@ pub use gravity::Gravity;
 pub use potential::{PairSteps, Potential, Step, MAX_POTENTIAL_SPECIES, MAX_STEPS};
 pub use reaction::{species_colour, Reaction, Reactions, MAX_REACTION_SPECIES};
 pub use restitution::{Restitution, RestitutionLaw, BRIDGES_EXPONENT, MAX_RESTITUTION_SPECIES};
+pub use shear::Shear;
 pub use sim_box::{Boundary, SimBox};
 
 /// A complete system description: discs, the box, and any internal barriers.
