@@ -16,6 +16,7 @@
 //! | [`energy`] | kinetic, potential and total energy; heat capacity in a heat bath | no |
 //! | [`kinetics`] | species counts over time and each reaction rule's rate constant with block errors | yes |
 //! | [`rdf`] | the radial distribution function `g(r)` | no |
+//! | [`shear_stress`] | the shear stress of a sheared system and its viscosity `-P_xy / gamma`, exact time integrals, with block errors | yes |
 //! | [`viscosity`] | shear viscosity by the Einstein-Helfand route, with block errors; Enskog's viscosity | yes |
 //!
 //! ```
@@ -45,6 +46,7 @@ pub mod energy;
 pub mod kinetics;
 pub mod pressure;
 pub mod rdf;
+pub mod shear_stress;
 pub mod species;
 pub mod speeds;
 pub mod square_well_eos;
@@ -64,5 +66,6 @@ pub use speeds::{maxwell_cdf, maxwell_pdf, rayleigh_cdf, rayleigh_pdf, SpeedSumm
 pub use stats::{
     block_error, kolmogorov_q, ks_test, linear_fit, variance, Estimate, Histogram, KsTest,
 };
+pub use shear_stress::{ShearStress, ShearStressBlock, ShearStressSummary};
 pub use temperature::{kinetic_temperature, Temperature, TemperatureSummary};
 pub use viscosity::{Viscosity, ViscosityBlock, ViscositySummary};
