@@ -504,3 +504,17 @@ fn steady_shear_gives_enskogs_viscosity_at_moderate_density() {
     assert!(s.reduced_rate < 0.1, "{}", s.reduced_rate);
     assert!(s.kinetic < 0.0 && s.collisional < 0.0, "{s:?}");
 }
+
+#[test]
+fn sheared_spheres_run_the_same_in_the_portable_and_the_x86_64_v3_loops() {
+    let mut fast = sheared_fluid::<3>(500, 0.4, 0.5, 12);
+    let mut portable = fast.clone();
+    portable.set_portable_loop(true);
+    fast.run_until(3.0, &mut ());
+    portable.run_until(3.0, &mut ());
+    assert_eq!(fast.stats(), portable.stats());
+    for i in 0..fast.len() {
+        assert_eq!(fast.position(i).0, portable.position(i).0, "sphere {i}");
+        assert_eq!(fast.velocity(i).0, portable.velocity(i).0, "sphere {i}");
+    }
+}

@@ -474,7 +474,32 @@ impl<const D: usize> Simulation<D> {
                 scan.dv = if across { dv } else { Vector::ZERO };
                 grid.visit_cell(cell, shift, &mut &mut scan);
             });
-        } else if D == 3 {
+            let settled = scan.nearest.settle();
+            return self.schedule(i, best, settled);
+        }
+        // Away from the boundary the scan is the hard cores', four candidates at a time in
+        // 3D on x86-64-v3 (the scalar scan made sheared runs 1.55 times as slow per event as
+        // plain ones there).
+        #[cfg(target_arch = "x86_64")]
+        if D == 3 && !FAR && self.v3 {
+            let mut nearest = scan.nearest;
+            // SAFETY: `v3` is only set when the processor has AVX2 (`set_portable_loop`).
+            #[allow(unsafe_code)]
+            unsafe {
+                super::scan_x86::scan(
+                    &self.grid,
+                    c,
+                    &self.body,
+                    i,
+                    t0,
+                    &mut nearest,
+                    &mut self.batch,
+                )
+            };
+            let settled = nearest.settle();
+            return self.schedule(i, best, settled);
+        }
+        if D == 3 {
             self.grid.visit_near_edges_once(c, &mut scan);
         } else {
             self.grid.visit_near(c, &mut scan);
