@@ -819,7 +819,10 @@ impl PySimulation {
     /// capacity), "rdf" (the radial distribution function g(r)), "kinetics" (the number of
     /// discs of each species over time, and each reaction rule's reactions and rate constant
     /// k, reactions per unit volume and time = k n_A n_B, k n_A^2 / 2 for like reactants, with
-    /// its block error). Events are watched in Rust; samples are taken at `start + k * every`
+    /// its block error), "viscosity" and "conductivity" (the shear viscosity and the thermal
+    /// conductivity by the Einstein-Helfand route, with block errors and Enskog's values;
+    /// periodic boxes only, and equal hard particles for the conductivity). Events are watched
+    /// in Rust; samples are taken at `start + k * every`
     /// by `run(until=...)` (not by `run(events=...)`, which is not timed); `results()` gives
     /// what was measured. Attaching again starts afresh. Pickles and checkpoints keep the
     /// measurements under way. As with `edmd run --sample-every`, a `run` that would take more

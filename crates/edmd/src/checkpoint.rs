@@ -138,6 +138,10 @@ pub fn read_extra<const D: usize>(extra: &[u8]) -> Option<(Format, Option<Measur
     // before a measurement was added ends early for today's layout and is read with its own.
     let extra = postcard::from_bytes::<CheckpointExtra<Measuring<D>>>(extra)
         .ok()
+        // Written before the thermal conductivity was measured.
+        .or_else(|| {
+            read_extra_before::<D, crate::measure::MeasurementsBeforeConductivity<D>>(extra)
+        })
         // Written before the viscosity was measured.
         .or_else(|| read_extra_before::<D, crate::measure::MeasurementsBeforeViscosity<D>>(extra))
         // Written before kinetics were measured.

@@ -6,8 +6,8 @@ use std::path::{Path, PathBuf};
 use anyhow::Result;
 use clap::ValueEnum;
 use edmd_core::measure::{
-    kinetic_temperature, Collisions, Diffusion, Energy, Kinetics, Pressure, Rdf, SpeciesHalves,
-    Speeds, Temperature, Viscosity,
+    kinetic_temperature, Collisions, Conductivity, Diffusion, Energy, Kinetics, Pressure, Rdf,
+    SpeciesHalves, Speeds, Temperature, Viscosity,
 };
 use edmd_core::{EventRecord, Observer, Simulation};
 use serde::{Deserialize, Serialize};
@@ -45,6 +45,10 @@ pub enum Measure {
     /// to 10 mean collision times, with its block error and Enskog's value (periodic boxes
     /// only).
     Viscosity,
+    /// Thermal conductivity by the Einstein-Helfand route, <Delta G^2> / (2 V kT^2 tau) over
+    /// windows up to 20 mean collision times, with its block error and Enskog's value (periodic
+    /// boxes of equal hard particles only).
+    Conductivity,
 }
 
 impl Measure {
@@ -65,6 +69,7 @@ impl Measure {
             Measure::Rdf => &["rdf.csv"],
             Measure::Kinetics => &["kinetics.csv"],
             Measure::Viscosity => &["viscosity.csv"],
+            Measure::Conductivity => &["conductivity.csv"],
         }
     }
 }
@@ -83,6 +88,42 @@ pub struct Measurements<const D: usize = 2> {
     rdf: Option<Rdf>,
     kinetics: Option<Kinetics>,
     viscosity: Option<Viscosity>,
+    conductivity: Option<Conductivity>,
+}
+
+/// [`Measurements`] as checkpoints kept them before `conductivity` was measured: read back,
+/// they go on as measurements without it.
+#[derive(Deserialize)]
+#[serde(bound = "")]
+pub(crate) struct MeasurementsBeforeConductivity<const D: usize> {
+    temperature: Option<Temperature>,
+    pressure: Option<Pressure>,
+    collisions: Option<Collisions>,
+    speeds: Option<Speeds>,
+    msd: Option<Diffusion<D>>,
+    species: Option<SpeciesHalves>,
+    energy: Option<Energy>,
+    rdf: Option<Rdf>,
+    kinetics: Option<Kinetics>,
+    viscosity: Option<Viscosity>,
+}
+
+impl<const D: usize> From<MeasurementsBeforeConductivity<D>> for Measurements<D> {
+    fn from(m: MeasurementsBeforeConductivity<D>) -> Self {
+        Measurements {
+            temperature: m.temperature,
+            pressure: m.pressure,
+            collisions: m.collisions,
+            speeds: m.speeds,
+            msd: m.msd,
+            species: m.species,
+            energy: m.energy,
+            rdf: m.rdf,
+            kinetics: m.kinetics,
+            viscosity: m.viscosity,
+            conductivity: None,
+        }
+    }
 }
 
 /// [`Measurements`] as checkpoints kept them before `viscosity` was measured: read back, they
@@ -114,6 +155,7 @@ impl<const D: usize> From<MeasurementsBeforeViscosity<D>> for Measurements<D> {
             rdf: m.rdf,
             kinetics: m.kinetics,
             viscosity: None,
+            conductivity: None,
         }
     }
 }
@@ -146,6 +188,7 @@ impl<const D: usize> From<MeasurementsBeforeKinetics<D>> for Measurements<D> {
             rdf: m.rdf,
             kinetics: None,
             viscosity: None,
+            conductivity: None,
         }
     }
 }
@@ -176,6 +219,7 @@ impl<const D: usize> From<MeasurementsBefore<D>> for Measurements<D> {
             rdf: None,
             kinetics: None,
             viscosity: None,
+            conductivity: None,
         }
     }
 }
@@ -218,15 +262,22 @@ impl<const D: usize> Measurements<D> {
             }),
             kinetics: has(Measure::Kinetics).then(|| Kinetics::new(sim)),
             viscosity: has(Measure::Viscosity).then(|| Viscosity::for_fluid(sim)),
+            conductivity: has(Measure::Conductivity).then(|| Conductivity::for_fluid(sim)),
         }
     }
 
-    /// Refuses measurements that cannot be taken on `sim` (the viscosity in a box with walls),
-    /// with a one-line message; the run's front door calls it before [`Self::new`].
+    /// Refuses measurements that cannot be taken on `sim` (the viscosity in a box with walls,
+    /// the thermal conductivity of a mixture), with a one-line message; the run's front door
+    /// calls it before [`Self::new`].
     pub fn check(sim: &Simulation<D>, which: &[Measure]) -> Result<()> {
         if which.contains(&Measure::Viscosity) {
             if let Some(why) = edmd_core::measure::viscosity::unsupported(sim) {
                 return crate::user_error(format!("--measure viscosity: {why}"));
+            }
+        }
+        if which.contains(&Measure::Conductivity) {
+            if let Some(why) = edmd_core::measure::conductivity::unsupported(sim) {
+                return crate::user_error(format!("--measure conductivity: {why}"));
             }
         }
         Ok(())
@@ -240,6 +291,7 @@ impl<const D: usize> Measurements<D> {
             && self.species.as_ref().is_none_or(|m| m.fits(sim))
             && self.kinetics.as_ref().is_none_or(|m| kinetics_fits(m, sim))
             && self.viscosity.as_ref().is_none_or(|m| m.fits(sim))
+            && self.conductivity.as_ref().is_none_or(|m| m.fits(sim))
     }
 
     /// Takes a sample of every measurement at the simulation's current time.
@@ -272,6 +324,9 @@ impl<const D: usize> Measurements<D> {
             m.sample(sim);
         }
         if let Some(m) = &mut self.viscosity {
+            m.sample(sim);
+        }
+        if let Some(m) = &mut self.conductivity {
             m.sample(sim);
         }
     }
@@ -535,6 +590,26 @@ impl<const D: usize> Measurements<D> {
                        "kT": num(s.kt), "elapsed": s.elapsed, "packing": s.packing}),
             );
         }
+        if let Some(m) = &self.conductivity {
+            csv(
+                "conductivity.csv",
+                &["tau", "lambda_tau", "mean_square_delta_g"],
+                m.curve()
+                    .iter()
+                    .map(|&(tau, lambda, msq)| vec![tau, lambda, msq])
+                    .collect(),
+            );
+            let s = m.summary();
+            let num = |x: f64| if x.is_finite() { json!(x) } else { Value::Null };
+            out.insert(
+                "conductivity".into(),
+                json!({"lambda": num(s.lambda.value), "lambda_error": num(s.lambda.error),
+                       "blocks": s.lambda.blocks, "lambda_enskog": num(s.lambda_enskog),
+                       "lambda_0": num(s.lambda_0), "lambda_at_window": num(s.lambda_at_window),
+                       "window": s.window, "fit_from": s.fit_from, "spacing": s.spacing,
+                       "kT": num(s.kt), "elapsed": s.elapsed, "packing": s.packing}),
+            );
+        }
         (Value::Object(out), tables)
     }
 }
@@ -583,5 +658,61 @@ impl<const D: usize> Observer<D> for Measurements<D> {
         if let Some(m) = &mut self.viscosity {
             m.on_event(e, sim);
         }
+        if let Some(m) = &mut self.conductivity {
+            m.on_event(e, sim);
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::checkpoint::{checkpoint_bytes, from_checkpoint_bytes, Measuring};
+    use edmd_core::setup::lattice_fluid_in;
+    use edmd_core::{Boundary, Options};
+    use edmd_io::Format;
+
+    /// A checkpoint written before the thermal conductivity was measured, with the viscosity
+    /// under way (its extra bytes end where today's `conductivity` would begin), is read back
+    /// with the viscosity it had, which goes on to the same results.
+    #[test]
+    fn a_viscosity_from_before_the_conductivity_reads_back_and_goes_on() {
+        let (discs, bx) = lattice_fluid_in::<3>(64, 0.3, Boundary::Periodic, 1).unwrap();
+        let mut sim = Simulation::new(&discs, bx, Options::default()).unwrap();
+        let which = [Measure::Viscosity];
+        let mut m = Measuring::new(&sim, &which, 0.5);
+        assert!(m.run_to(&mut sim, 2.0).unwrap());
+        let now = checkpoint_bytes(&sim, Format::Course, Some(&m)).unwrap();
+        let (_, extra) = Simulation::<3>::from_checkpoint(&now).unwrap();
+        // `conductivity: None` is the last byte, 0.
+        assert_eq!(extra.last(), Some(&0));
+        let before = sim.to_checkpoint(&extra[..extra.len() - 1]);
+        let (mut sim2, _, back) = from_checkpoint_bytes::<3>(&before).unwrap();
+        let mut back = back.unwrap();
+        assert_eq!((back.which.clone(), back.samples), (which.to_vec(), 4));
+        assert!(m.run_to(&mut sim, 30.0).unwrap());
+        assert!(back.run_to(&mut sim2, 30.0).unwrap());
+        let (a, b) = (m.obs.results(&sim).0, back.obs.results(&sim2).0);
+        assert!(a["viscosity"]["blocks"].as_u64().unwrap() > 0);
+        assert_eq!(a, b);
+    }
+
+    /// The conductivity is refused where the viscosity is, and for a mixture, with the
+    /// one-line message the front doors print.
+    #[test]
+    fn the_conductivity_is_refused_in_a_box_with_walls_and_for_a_mixture() {
+        let (discs, bx) = lattice_fluid_in::<2>(16, 0.2, Boundary::Walls, 1).unwrap();
+        let sim = Simulation::new(&discs, bx, Options::default()).unwrap();
+        let e = Measurements::check(&sim, &[Measure::Conductivity]).unwrap_err();
+        assert_eq!(
+            e.to_string(),
+            "--measure conductivity: the thermal conductivity needs a periodic box (no walls on any axis)"
+        );
+        let (mut discs, bx) = lattice_fluid_in::<2>(16, 0.2, Boundary::Periodic, 1).unwrap();
+        discs[0].radius *= 0.9;
+        let sim = Simulation::new(&discs, bx, Options::default()).unwrap();
+        let e = Measurements::check(&sim, &[Measure::Conductivity]).unwrap_err();
+        assert!(e.to_string().contains("one mass and one diameter"), "{e}");
+        assert!(Measurements::check(&sim, &[Measure::Viscosity]).is_ok());
     }
 }

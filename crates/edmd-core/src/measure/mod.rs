@@ -18,6 +18,7 @@
 //! | [`rdf`] | the radial distribution function `g(r)` | no |
 //! | [`shear_stress`] | the shear stress of a sheared system and its viscosity `-P_xy / gamma`, exact time integrals, with block errors | yes |
 //! | [`viscosity`] | shear viscosity by the Einstein-Helfand route, with block errors; Enskog's viscosity | yes |
+//! | [`conductivity`] | thermal conductivity by the Einstein-Helfand route, with block errors | yes |
 //!
 //! ```
 //! use edmd_core::measure::{Collisions, Pressure};
@@ -41,6 +42,7 @@
 
 pub mod collisions;
 pub mod column;
+pub mod conductivity;
 pub mod diffusion;
 pub mod energy;
 pub mod kinetics;
@@ -56,16 +58,17 @@ pub mod theory;
 pub mod viscosity;
 
 pub use collisions::{CollisionBlock, CollisionSummary, Collisions, DiscFlights};
+pub use conductivity::{Conductivity, ConductivityBlock, ConductivitySummary};
 pub use diffusion::{Diffusion, DiffusionFit};
 pub use energy::{Energy, EnergySummary};
 pub use kinetics::{Kinetics, RuleRate};
 pub use pressure::{Pressure, PressureBlock, PressureSummary};
 pub use rdf::Rdf;
+pub use shear_stress::{ShearStress, ShearStressBlock, ShearStressSummary};
 pub use species::{SpeciesHalves, SpeciesSnapshot, SpeciesSummary};
 pub use speeds::{maxwell_cdf, maxwell_pdf, rayleigh_cdf, rayleigh_pdf, SpeedSummary, Speeds};
 pub use stats::{
     block_error, kolmogorov_q, ks_test, linear_fit, variance, Estimate, Histogram, KsTest,
 };
-pub use shear_stress::{ShearStress, ShearStressBlock, ShearStressSummary};
 pub use temperature::{kinetic_temperature, Temperature, TemperatureSummary};
 pub use viscosity::{Viscosity, ViscosityBlock, ViscositySummary};

@@ -578,3 +578,116 @@ mod granular_tests {
         assert!((shear_mode_growth(2, 0.9, 1.0 + 1e-9, 10.0) - (1.0 + 10.0 * r)).abs() < 1e-6);
     }
 }
+
+/// The thermal conductivity of a dilute gas of equal hard spheres (`dim` 3) or discs (2) of
+/// diameter `sigma` and mass `m` at `kt`, with `k_B = 1`, in the first Sonine approximation of
+/// the Chapman-Enskog solution: `lambda_0 = (dim (dim + 2) / (2 (dim - 1))) k_B eta_0 / m`
+/// with [`boltzmann_viscosity`]'s `eta_0`, so `(75 / 64) sqrt(kT / (pi m)) / sigma^2` for
+/// spheres (S. Chapman and T. G. Cowling, *The Mathematical Theory of Non-Uniform Gases*, 3rd
+/// ed. (1970), section 10.21, where `lambda = (15 / 4) k_B eta / m` in this approximation) and
+/// `(2 / sigma) sqrt(kT / (pi m))` for discs (D. M. Gass, J. Chem. Phys. 54, 1898 (1971), with
+/// `lambda = 4 k_B eta / m`). Its unit is `k_B` per length and time in 3D (`k_B` per time in
+/// 2D).
+pub fn dilute_conductivity(dim: usize, sigma: f64, kt: f64, m: f64) -> f64 {
+    let d = dim as f64;
+    d * (d + 2.0) / (2.0 * (d - 1.0)) * boltzmann_viscosity(dim, sigma, kt, m) / m
+}
+
+/// The factor by which the higher Sonine approximations raise the first one's thermal
+/// conductivity of a dilute gas of hard spheres, `[lambda]_inf = 1.025 [lambda]_1` (Chapman
+/// and Cowling (1970), sections 10.21 and 16.5; 1.016 for the viscosity). Enskog's dense-gas
+/// conductivity takes it on its kinetic part only, see
+/// [`enskog_conductivity_ratio_chapman_cowling`].
+pub const CONDUCTIVITY_SONINE_SPHERES: f64 = 1.025;
+
+/// Enskog's thermal conductivity of equal hard spheres (`dim` 3) or discs (2) at packing
+/// fraction `packing` with the contact value `chi` of the pair distribution, reduced by
+/// [`dilute_conductivity`], in the first Sonine approximation:
+///
+/// `lambda_E / lambda_0 = (1 + 12 phi chi / 5)^2 / chi + 512 phi^2 chi / (25 pi)` for spheres,
+/// `(1 + 3 phi chi / 2)^2 / chi + 4 phi^2 chi / pi` for discs.
+///
+/// The first term is the kinetic flux with the collisional transfer of the kinetic part (the
+/// factor `1 + 3 . 2^(dim-1) phi chi / (dim + 2)` twice), the second the collisional transfer
+/// of the local equilibrium's energy, `2^(2 dim + 2) (dim - 1) phi^2 chi / ((dim + 2)^2 pi)`.
+/// For spheres it is Chapman and Cowling's `1/chi + 1.2 b rho + 0.7674 (b rho)^2 chi` with
+/// `b rho = 4 phi` (section 16.5; they print `0.7575` with the factor 1.025 taken out of
+/// everything), for discs Gass's `1/chi + 3 phi + (9/4 + 4/pi) phi^2 chi` (1971); both are the
+/// elastic limit of V. Garzó and J. W. Dufty's `d`-dimensional Enskog conductivity (Phys. Rev.
+/// E 59, 5895 (1999)). `chi = g(sigma)` is the one the viscosity uses ([`contact_value`]).
+pub fn enskog_conductivity_ratio(dim: usize, packing: f64, chi: f64) -> f64 {
+    let (d, phi) = (dim as f64, packing);
+    let kinetic = 1.0 + 3.0 * 2f64.powi(dim as i32 - 1) * phi * chi / (d + 2.0);
+    let collisional =
+        2f64.powi(2 * dim as i32 + 2) * (d - 1.0) * phi * phi * chi / ((d + 2.0).powi(2) * PI);
+    kinetic * kinetic / chi + collisional
+}
+
+/// [`enskog_conductivity_ratio`] for spheres with the higher Sonine approximations' factor
+/// [`CONDUCTIVITY_SONINE_SPHERES`] on its kinetic term, as Chapman and Cowling (1970, section
+/// 16.5) write Enskog's conductivity: `1.025 (1 + 12 phi chi / 5)^2 / chi + 512 phi^2 chi /
+/// (25 pi)`, or `1.025 (1/chi + 1.2 b rho + 0.7575 (b rho)^2 chi)`. `1.025` in the dilute
+/// limit.
+pub fn enskog_conductivity_ratio_chapman_cowling(packing: f64, chi: f64) -> f64 {
+    let phi = packing;
+    let kinetic = 1.0 + 12.0 * phi * chi / 5.0;
+    CONDUCTIVITY_SONINE_SPHERES * kinetic * kinetic / chi + 512.0 * phi * phi * chi / (25.0 * PI)
+}
+
+/// Enskog's thermal conductivity `lambda_E` of equal hard spheres or discs of diameter `sigma`
+/// and mass `m` at packing fraction `packing` and `kt` (`k_B = 1`):
+/// [`enskog_conductivity_ratio`] times [`dilute_conductivity`], with the contact value of the
+/// project's reference equation of state ([`contact_value`]).
+pub fn enskog_conductivity(dim: usize, packing: f64, sigma: f64, kt: f64, m: f64) -> f64 {
+    enskog_conductivity_ratio(dim, packing, contact_value(packing, dim))
+        * dilute_conductivity(dim, sigma, kt, m)
+}
+
+#[cfg(test)]
+mod conductivity_tests {
+    use super::*;
+
+    #[test]
+    fn dilute_conductivities_are_the_textbook_ones() {
+        // 75 / (64 sqrt(pi)) for spheres, 2 / sqrt(pi) for discs, at sigma = m = kT = 1.
+        assert!((dilute_conductivity(3, 1.0, 1.0, 1.0) - 0.661_159_66).abs() < 1e-8);
+        let two_over_root_pi = std::f64::consts::FRAC_2_SQRT_PI;
+        assert!((dilute_conductivity(2, 1.0, 1.0, 1.0) - two_over_root_pi).abs() < 1e-15);
+        // lambda_0 = (15/4) eta_0 / m and 4 eta_0 / m (the Eucken ratios of the first Sonine
+        // approximation), and the scaling sqrt(kT / m) / sigma^(dim - 1).
+        for (dim, eucken) in [(3, 3.75), (2, 4.0)] {
+            let (s, kt, m) = (1.3, 2.0, 0.7);
+            let ratio = dilute_conductivity(dim, s, kt, m) * m / boltzmann_viscosity(dim, s, kt, m);
+            assert!((ratio - eucken).abs() < 1e-12, "{dim}");
+        }
+        let ratio = dilute_conductivity(3, 2.0, 4.0, 9.0) / dilute_conductivity(3, 1.0, 1.0, 1.0);
+        assert!((ratio - (4.0f64 / 9.0).sqrt() / 4.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn enskog_conductivity_goes_to_the_dilute_gas_and_matches_the_printed_forms() {
+        for dim in [2, 3] {
+            let phi = 1e-6;
+            let r = enskog_conductivity_ratio(dim, phi, contact_value(phi, dim));
+            assert!((r - 1.0).abs() < 1e-5, "{dim}: {r}");
+        }
+        assert!((enskog_conductivity_ratio_chapman_cowling(1e-6, 1.0) - 1.025).abs() < 1e-5);
+        // Spheres: Chapman and Cowling's 1/chi + 1.2 b rho + (9/25 + 32/(25 pi)) (b rho)^2 chi,
+        // b rho = 4 phi; with the factor 1.025 on the kinetic part, their printed 0.7575.
+        let (phi, chi) = (PI / 12.0, 2.160_462);
+        let brho = 4.0 * phi;
+        let cc = 1.0 / chi + 1.2 * brho + (9.0 / 25.0 + 32.0 / (25.0 * PI)) * brho * brho * chi;
+        assert!((enskog_conductivity_ratio(3, phi, chi) - cc).abs() < 1e-12);
+        let printed = 1.025 * (1.0 / chi + 1.2 * brho + 0.7575 * brho * brho * chi);
+        let ours = enskog_conductivity_ratio_chapman_cowling(phi, chi);
+        assert!((ours / printed - 1.0).abs() < 2e-4, "{ours} {printed}");
+        // Discs: Gass's 1/chi + 3 phi + (9/4 + 4/pi) phi^2 chi.
+        let (phi, chi): (f64, f64) = (0.3, 1.6);
+        let gass = 1.0 / chi + 3.0 * phi + (9.0 / 4.0 + 4.0 / PI) * phi * phi * chi;
+        assert!((enskog_conductivity_ratio(2, phi, chi) - gass).abs() < 1e-12);
+        // The full value at unit sigma, m, kT.
+        let e = enskog_conductivity(3, 0.25, 1.0, 1.0, 1.0);
+        let want = enskog_conductivity_ratio(3, 0.25, contact_value(0.25, 3)) * 0.661_159_66;
+        assert!((e - want).abs() < 1e-7);
+    }
+}

@@ -39,7 +39,8 @@
 //!
 //! **What it refuses** ([`unsupported`]): walls on any axis and internal barriers (their
 //! forces on the fluid are not pair impulses, and the moment needs a periodic box), a field
-//! (the velocities change between events), and multi-disc contacts (an event carries one
+//! (the velocities change between events), Lees-Edwards shear (the images slide; a sheared
+//! system's viscosity is [`super::shear_stress`]'s), and multi-disc contacts (an event carries one
 //! disc's impulse only). A stepped potential's step events are pair impulses along the line of
 //! centres and count as collisions; reactions are collisions too. An Andersen thermostat's
 //! redraws change the kinetic total (followed through their impulses) but exchange momentum
@@ -111,20 +112,32 @@ pub fn enskog_viscosity(dim: usize, packing: f64, sigma: f64, kt: f64, m: f64) -
     enskog_ratio(dim, packing, contact_value(packing, dim)) * dilute_viscosity(dim, sigma, kt, m)
 }
 
-/// Why the shear viscosity cannot be measured on `sim`, or `None` when it can (see the module
-/// documentation).
-pub fn unsupported<const D: usize>(sim: &Simulation<D>) -> Option<&'static str> {
+/// Why a transport coefficient by the Einstein-Helfand route cannot be measured on `sim`, as
+/// the end of a sentence whose subject is the coefficient ("needs a periodic box ..."), or
+/// `None` when nothing in the box or the flights stands in the way. The shear viscosity and
+/// the thermal conductivity ([`super::conductivity`]) share it.
+pub(crate) fn unsupported_box<const D: usize>(sim: &Simulation<D>) -> Option<&'static str> {
     if (0..D).any(|a| !sim.sim_box().is_periodic(a)) {
-        Some("the shear viscosity needs a periodic box (no walls on any axis)")
+        Some("needs a periodic box (no walls on any axis)")
     } else if !sim.barriers().is_empty() {
-        Some("the shear viscosity needs a box without barriers")
+        Some("needs a box without barriers")
     } else if sim.gravity().is_some() {
-        Some("the shear viscosity is not measured in a field")
+        Some("is not measured in a field")
+    } else if sim.shear().is_some() {
+        // Equilibrium fluctuations: a sheared system's images slide, and its viscosity is the
+        // shear stress's (`shear_stress`).
+        Some("is not measured under shear (sliding images)")
     } else if sim.multi().is_some() {
-        Some("the shear viscosity needs binary collisions (not multi-disc contacts)")
+        Some("needs binary collisions (not multi-disc contacts)")
     } else {
         None
     }
+}
+
+/// Why the shear viscosity cannot be measured on `sim`, or `None` when it can (see the module
+/// documentation).
+pub fn unsupported<const D: usize>(sim: &Simulation<D>) -> Option<String> {
+    unsupported_box(sim).map(|why| format!("the shear viscosity {why}"))
 }
 
 /// The Einstein-Helfand shear viscosity, accumulated window by window. Attach it as an
@@ -140,36 +153,10 @@ pub struct Viscosity {
     packing: f64,
     sigma: f64,
     mass: f64,
-    /// Time between grid points; windows are `1..=lags` grid steps long.
-    spacing: f64,
-    lags: usize,
-    /// Longest windows per block.
-    block_windows: usize,
-    /// Time of grid point 0.
-    start: f64,
-    /// Time the running integrals have been brought to.
-    now: f64,
-    /// `sum m v_a v_b` per off-diagonal pair (xy; or xy, xz, yz), then `sum m v^2`.
-    kinetic: Vec<f64>,
-    /// Total momentum.
-    momentum: Vec<f64>,
-    /// The Helfand moment's running integral per off-diagonal pair since `start`.
-    moment: Vec<f64>,
-    /// `integral of (sum m v^2 - P^2 / M) dt` since `start`.
-    twice_ke: f64,
-    /// Grid points recorded so far (the next is at `start + points * spacing`).
-    points: u64,
-    /// The moment at the last `lags + 1` grid points, a ring of `lags + 1` rows.
-    ring: Vec<f64>,
-    /// The current block: its first grid point, `twice_ke` there, and per window length the
-    /// sum of squares (over windows and pairs) and the windows.
-    block_first: u64,
-    block_twice_ke: f64,
-    block_sums: Vec<f64>,
-    block_counts: Vec<u64>,
-    /// Totals over all closed blocks, per window length.
-    sums: Vec<f64>,
-    counts: Vec<u64>,
+    /// The grid, the running totals and integrals, and the windows' sums. Its fields follow
+    /// the ones above in the order this struct had them before they were shared with the
+    /// thermal conductivity, so that checkpoints written then read the same.
+    windows: Windows,
     blocks: Vec<ViscosityBlock>,
 }
 
@@ -232,6 +219,292 @@ fn pairs(dim: usize) -> &'static [(usize, usize)] {
     }
 }
 
+/// The Einstein-Helfand machinery that does not depend on which flux is integrated, shared by
+/// the shear viscosity and the thermal conductivity ([`super::conductivity`]): a grid of
+/// points `spacing` apart from `start`, the moment's components recorded at each in a ring of
+/// the last `lags + 1`, the squares of their changes over every window of `1..=lags` grid steps
+/// ending there summed per window length (averaged over the components), blocks of
+/// `block_windows` longest windows, and the integral of `sum m v^2 - P^2 / M` for the blocks'
+/// temperatures.
+///
+/// The owner keeps its running totals in `kinetic` and `momentum` (their meaning is its own),
+/// adds the collisions' jumps to `moment`, and brings the integrals along with
+/// [`Windows::advance_to`], handing over the rates the totals give; the closed blocks come back
+/// for it to fit and keep.
+#[derive(Clone, Debug)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub(crate) struct Windows {
+    /// Time between grid points; windows are `1..=lags` grid steps long.
+    spacing: f64,
+    lags: usize,
+    /// Longest windows per block.
+    block_windows: usize,
+    /// Time of grid point 0.
+    start: f64,
+    /// Time the running integrals have been brought to.
+    now: f64,
+    /// The owner's running totals of the particles' velocities (constant between events).
+    pub(crate) kinetic: Vec<f64>,
+    /// Total momentum.
+    pub(crate) momentum: Vec<f64>,
+    /// The Helfand moment's components since `start`.
+    pub(crate) moment: Vec<f64>,
+    /// `integral of (sum m v^2 - P^2 / M) dt` since `start`.
+    twice_ke: f64,
+    /// Grid points recorded so far (the next is at `start + points * spacing`).
+    points: u64,
+    /// The moment at the last `lags + 1` grid points, a ring of `lags + 1` rows.
+    ring: Vec<f64>,
+    /// The current block: its first grid point, `twice_ke` there, and per window length the
+    /// sum of squares (over windows, averaged over the components) and the windows.
+    block_first: u64,
+    block_twice_ke: f64,
+    block_sums: Vec<f64>,
+    block_counts: Vec<u64>,
+    /// Totals over all closed blocks, per window length.
+    sums: Vec<f64>,
+    counts: Vec<u64>,
+}
+
+/// A block [`Windows`] closed: its times, `integral of (sum m v^2 - P^2 / M) dt` over it, and
+/// `<Delta G^2>` per window length over the windows ending in it.
+pub(crate) struct ClosedBlock {
+    pub(crate) start: f64,
+    pub(crate) end: f64,
+    pub(crate) twice_ke: f64,
+    pub(crate) mean_square: Vec<f64>,
+}
+
+impl Windows {
+    /// A grid from `start` with `components` moment components and `totals` running totals in
+    /// `dim` dimensions, its first point recorded.
+    ///
+    /// # Panics
+    /// If `spacing` is not positive and finite, or `lags` or `block_windows` is 0.
+    pub(crate) fn new(
+        spacing: f64,
+        lags: usize,
+        block_windows: usize,
+        start: f64,
+        (dim, components, totals): (usize, usize, usize),
+    ) -> Self {
+        assert!(
+            spacing.is_finite() && spacing > 0.0,
+            "the grid spacing must be positive"
+        );
+        assert!(
+            lags > 0 && block_windows > 0,
+            "windows and blocks must be at least one"
+        );
+        let mut w = Windows {
+            spacing,
+            lags,
+            block_windows,
+            start,
+            now: start,
+            kinetic: vec![0.0; totals],
+            momentum: vec![0.0; dim],
+            moment: vec![0.0; components],
+            twice_ke: 0.0,
+            points: 0,
+            ring: vec![0.0; (lags + 1) * components],
+            block_first: 0,
+            block_twice_ke: 0.0,
+            block_sums: vec![0.0; lags],
+            block_counts: vec![0; lags],
+            sums: vec![0.0; lags],
+            counts: vec![0; lags],
+        };
+        // Point 0 closes nothing.
+        let _ = w.record_point();
+        w
+    }
+
+    /// Whether the sizes are those of a measurement of `components` moment components and
+    /// `totals` running totals (checked on measurements read back from a checkpoint).
+    pub(crate) fn has_sizes(&self, components: usize, totals: usize) -> bool {
+        self.moment.len() == components
+            && self.kinetic.len() == totals
+            && self.ring.len() == (self.lags + 1) * components
+            && self.block_sums.len() == self.lags
+            && self.block_counts.len() == self.lags
+            && self.sums.len() == self.lags
+            && self.counts.len() == self.lags
+    }
+
+    /// The grid spacing and the number of window lengths.
+    pub(crate) fn grid(&self) -> (f64, usize) {
+        (self.spacing, self.lags)
+    }
+
+    /// Integrates the moment at `rates` and `sum m v^2 - P^2 / M` at `twice_ke` from `now` to
+    /// `t` (`t >= now`).
+    fn stream(&mut self, t: f64, rates: &[f64], twice_ke: f64) {
+        let dt = t - self.now;
+        if dt <= 0.0 {
+            return;
+        }
+        for (g, &r) in self.moment.iter_mut().zip(rates) {
+            *g += r * dt;
+        }
+        self.twice_ke += twice_ke * dt;
+        self.now = t;
+    }
+
+    /// Brings the integrals to `t` at the rates given (constant since the last event),
+    /// recording every grid point up to it on the way; returns the blocks that closed.
+    pub(crate) fn advance_to(&mut self, t: f64, rates: &[f64], twice_ke: f64) -> Vec<ClosedBlock> {
+        let mut closed = Vec::new();
+        loop {
+            let next = self.start + self.points as f64 * self.spacing;
+            if next > t {
+                break;
+            }
+            self.stream(next, rates, twice_ke);
+            closed.extend(self.record_point());
+        }
+        self.stream(t, rates, twice_ke);
+        closed
+    }
+
+    /// Records the moment at the grid point `points` (the integrals are at its time), adds the
+    /// windows ending there and closes the block when it is full.
+    fn record_point(&mut self) -> Option<ClosedBlock> {
+        let np = self.moment.len();
+        let rows = self.lags + 1;
+        let k = self.points;
+        let row = (k % rows as u64) as usize;
+        self.ring[row * np..(row + 1) * np].copy_from_slice(&self.moment);
+        for m in 1..=self.lags.min(k as usize) {
+            let back = ((k - m as u64) % rows as u64) as usize;
+            let mut sq = 0.0;
+            for c in 0..np {
+                let d = self.moment[c] - self.ring[back * np + c];
+                sq += d * d;
+            }
+            self.block_sums[m - 1] += sq / np as f64;
+            self.block_counts[m - 1] += 1;
+        }
+        self.points += 1;
+        if k == 0 {
+            self.block_first = 0;
+            self.block_twice_ke = self.twice_ke;
+            None
+        } else if k - self.block_first >= (self.lags * self.block_windows) as u64 {
+            Some(self.close_block(k))
+        } else {
+            None
+        }
+    }
+
+    /// Closes the block ending at grid point `k` and starts the next there.
+    fn close_block(&mut self, k: u64) -> ClosedBlock {
+        let start = self.start + self.block_first as f64 * self.spacing;
+        let end = self.start + k as f64 * self.spacing;
+        let twice_ke = self.twice_ke - self.block_twice_ke;
+        let mean_square = means(&self.block_sums, &self.block_counts);
+        for m in 0..self.lags {
+            self.sums[m] += self.block_sums[m];
+            self.counts[m] += self.block_counts[m];
+        }
+        self.block_sums.iter_mut().for_each(|s| *s = 0.0);
+        self.block_counts.iter_mut().for_each(|c| *c = 0);
+        self.block_first = k;
+        self.block_twice_ke = self.twice_ke;
+        ClosedBlock {
+            start,
+            end,
+            twice_ke,
+            mean_square,
+        }
+    }
+
+    /// The first window length (in grid steps, from 1) of the fit.
+    fn fit_first(&self) -> usize {
+        (self.lags / 2).max(1)
+    }
+
+    /// The shortest window in the fit.
+    pub(crate) fn fit_from(&self) -> f64 {
+        self.fit_first() as f64 * self.spacing
+    }
+
+    /// The longest window.
+    pub(crate) fn window(&self) -> f64 {
+        self.lags as f64 * self.spacing
+    }
+
+    /// The slope of `<Delta G^2> / scale` against `tau` over the fitted windows.
+    pub(crate) fn fit(&self, mean_square: &[f64], scale: f64) -> f64 {
+        let points: Vec<(f64, f64)> = (self.fit_first()..=self.lags)
+            .map(|m| (m as f64 * self.spacing, mean_square[m - 1] / scale))
+            .filter(|p| p.1.is_finite())
+            .collect();
+        match linear_fit(&points) {
+            Some((slope, _)) => slope,
+            // One window length: the ratio itself.
+            None => points.first().map_or(f64::NAN, |p| p.1 / p.0),
+        }
+    }
+
+    /// `<Delta G^2>` per window length over the closed blocks (`NaN` where none).
+    pub(crate) fn mean_square(&self) -> Vec<f64> {
+        means(&self.sums, &self.counts)
+    }
+
+    /// `(tau, <Delta G^2> / (scale tau), <Delta G^2>)` per window length over the closed
+    /// blocks.
+    pub(crate) fn curve(&self, scale: f64) -> Vec<(f64, f64, f64)> {
+        (1..=self.lags)
+            .filter(|&m| self.counts[m - 1] > 0)
+            .map(|m| {
+                let tau = m as f64 * self.spacing;
+                let msq = self.sums[m - 1] / self.counts[m - 1] as f64;
+                (tau, msq / (scale * tau), msq)
+            })
+            .collect()
+    }
+}
+
+/// Sums over counts, `NaN` where the count is 0.
+fn means(sums: &[f64], counts: &[u64]) -> Vec<f64> {
+    sums.iter()
+        .zip(counts)
+        .map(|(&s, &c)| if c > 0 { s / c as f64 } else { f64::NAN })
+        .collect()
+}
+
+/// The time-averaged `kT` of blocks given as `(start, end, kT)` (`NaN` for none).
+pub(crate) fn mean_kt(blocks: impl Iterator<Item = (f64, f64, f64)> + Clone) -> f64 {
+    let elapsed: f64 = blocks.clone().map(|(s, e, _)| e - s).sum();
+    blocks.map(|(s, e, kt)| kt * (e - s)).sum::<f64>() / elapsed
+}
+
+/// The packing fraction, mean diameter and mean mass of `sim`'s particles.
+pub(crate) fn composition<const D: usize>(sim: &Simulation<D>) -> (f64, f64, f64) {
+    let n = sim.len();
+    let volume = sim.sim_box().volume();
+    let unit = if D == 3 { PI / 6.0 } else { PI / 4.0 };
+    let diameters = (0..n).map(|i| 2.0 * sim.radius(i));
+    let covered: f64 = diameters.clone().map(|d| unit * d.powi(D as i32)).sum();
+    (
+        covered / volume,
+        diameters.sum::<f64>() / n.max(1) as f64,
+        (0..n).map(|i| sim.mass(i)).sum::<f64>() / n.max(1) as f64,
+    )
+}
+
+/// `sum m v^2 - P^2 / M` from the total of `m v^2`, the momentum and the total mass.
+pub(crate) fn twice_ke_relative(sum_mv2: f64, momentum: &[f64], total_mass: f64) -> f64 {
+    let p2: f64 = momentum.iter().map(|p| p * p).sum();
+    let drift = if total_mass > 0.0 {
+        p2 / total_mass
+    } else {
+        0.0
+    };
+    sum_mv2 - drift
+}
+
 impl Viscosity {
     /// Starts measuring on `sim` now, with grid points `spacing` apart, windows up to `lags`
     /// of them and blocks of `block_windows` longest windows. Check [`unsupported`] first: on a
@@ -245,49 +518,21 @@ impl Viscosity {
         lags: usize,
         block_windows: usize,
     ) -> Self {
-        assert!(
-            spacing.is_finite() && spacing > 0.0,
-            "the grid spacing must be positive"
-        );
-        assert!(
-            lags > 0 && block_windows > 0,
-            "windows and blocks must be at least one"
-        );
         let n = sim.len();
-        let volume = sim.sim_box().volume();
-        let unit = if D == 3 { PI / 6.0 } else { PI / 4.0 };
-        let diameters = (0..n).map(|i| 2.0 * sim.radius(i));
-        let covered: f64 = diameters.clone().map(|d| unit * d.powi(D as i32)).sum();
+        let (packing, sigma, mass) = composition(sim);
         let np = pairs(D).len();
         let mut v = Viscosity {
             dim: D,
             n,
-            volume,
+            volume: sim.sim_box().volume(),
             total_mass: (0..n).map(|i| sim.mass(i)).sum(),
-            packing: covered / volume,
-            sigma: diameters.sum::<f64>() / n.max(1) as f64,
-            mass: (0..n).map(|i| sim.mass(i)).sum::<f64>() / n.max(1) as f64,
-            spacing,
-            lags,
-            block_windows,
-            start: sim.time(),
-            now: sim.time(),
-            kinetic: vec![0.0; np + 1],
-            momentum: vec![0.0; D],
-            moment: vec![0.0; np],
-            twice_ke: 0.0,
-            points: 0,
-            ring: vec![0.0; (lags + 1) * np],
-            block_first: 0,
-            block_twice_ke: 0.0,
-            block_sums: vec![0.0; lags],
-            block_counts: vec![0; lags],
-            sums: vec![0.0; lags],
-            counts: vec![0; lags],
+            packing,
+            sigma,
+            mass,
+            windows: Windows::new(spacing, lags, block_windows, sim.time(), (D, np, np + 1)),
             blocks: Vec::new(),
         };
         v.recount(sim);
-        v.record_point();
         v
     }
 
@@ -317,8 +562,8 @@ impl Viscosity {
         self.dim == D
             && self.n == sim.len()
             && self.volume == sim.sim_box().volume()
-            && self.kinetic.len() == pairs(D).len() + 1
-            && self.ring.len() == (self.lags + 1) * pairs(D).len()
+            && self.windows.momentum.len() == D
+            && self.windows.has_sizes(pairs(D).len(), pairs(D).len() + 1)
             && unsupported(sim).is_none()
     }
 
@@ -329,20 +574,19 @@ impl Viscosity {
 
     /// `sum m v^2 - P^2 / M` now.
     fn twice_ke_now(&self) -> f64 {
-        let p2: f64 = self.momentum.iter().map(|p| p * p).sum();
-        let drift = if self.total_mass > 0.0 {
-            p2 / self.total_mass
-        } else {
-            0.0
-        };
-        self.kinetic[pairs(self.dim).len()] - drift
+        let w = &self.windows;
+        twice_ke_relative(
+            w.kinetic[pairs(self.dim).len()],
+            &w.momentum,
+            self.total_mass,
+        )
     }
 
     /// The kinetic totals worked out again from the velocities (at a sample, so that rounding
     /// does not accumulate and velocities changed between runs are taken up).
     fn recount<const D: usize>(&mut self, sim: &Simulation<D>) {
-        self.kinetic.iter_mut().for_each(|k| *k = 0.0);
-        self.momentum.iter_mut().for_each(|p| *p = 0.0);
+        self.windows.kinetic.iter_mut().for_each(|k| *k = 0.0);
+        self.windows.momentum.iter_mut().for_each(|p| *p = 0.0);
         for i in 0..sim.len() {
             self.add_disc(sim.mass(i), sim.velocity(i).0.as_slice(), 1.0);
         }
@@ -351,124 +595,42 @@ impl Viscosity {
     /// Adds `sign` times disc's contributions to the kinetic totals and the momentum.
     fn add_disc(&mut self, m: f64, v: &[f64], sign: f64) {
         let ps = pairs(self.dim);
+        let w = &mut self.windows;
         for (k, &(a, b)) in ps.iter().enumerate() {
-            self.kinetic[k] += sign * m * v[a] * v[b];
+            w.kinetic[k] += sign * m * v[a] * v[b];
         }
-        self.kinetic[ps.len()] += sign * m * v.iter().map(|x| x * x).sum::<f64>();
-        for (p, x) in self.momentum.iter_mut().zip(v) {
+        w.kinetic[ps.len()] += sign * m * v.iter().map(|x| x * x).sum::<f64>();
+        for (p, x) in w.momentum.iter_mut().zip(v) {
             *p += sign * m * x;
         }
     }
 
-    /// Integrates the kinetic part from `now` to `t` (`t >= now`).
-    fn stream(&mut self, t: f64) {
-        let dt = t - self.now;
-        if dt <= 0.0 {
-            return;
-        }
+    /// Brings the integrals to `t`, recording every grid point up to it on the way and fitting
+    /// the blocks that close.
+    fn advance_to(&mut self, t: f64) {
+        // The kinetic stress relative to the centre of mass, constant since the last event.
+        let mut rates = [0.0; 3];
         let ps = pairs(self.dim);
+        let w = &self.windows;
         for (k, &(a, b)) in ps.iter().enumerate() {
             let drift = if self.total_mass > 0.0 {
-                self.momentum[a] * self.momentum[b] / self.total_mass
+                w.momentum[a] * w.momentum[b] / self.total_mass
             } else {
                 0.0
             };
-            self.moment[k] += (self.kinetic[k] - drift) * dt;
+            rates[k] = w.kinetic[k] - drift;
         }
-        self.twice_ke += self.twice_ke_now() * dt;
-        self.now = t;
-    }
-
-    /// Brings the integrals to `t`, recording every grid point up to it on the way.
-    fn advance_to(&mut self, t: f64) {
-        loop {
-            let next = self.start + self.points as f64 * self.spacing;
-            if next > t {
-                break;
-            }
-            self.stream(next);
-            self.record_point();
-        }
-        self.stream(t);
-    }
-
-    /// Records the moment at the grid point `points` (the integrals are at its time), adds the
-    /// windows ending there and closes the block when it is full.
-    fn record_point(&mut self) {
-        let np = self.moment.len();
-        let rows = self.lags + 1;
-        let k = self.points;
-        let row = (k % rows as u64) as usize;
-        self.ring[row * np..(row + 1) * np].copy_from_slice(&self.moment);
-        for m in 1..=self.lags.min(k as usize) {
-            let back = ((k - m as u64) % rows as u64) as usize;
-            let mut sq = 0.0;
-            for c in 0..np {
-                let d = self.moment[c] - self.ring[back * np + c];
-                sq += d * d;
-            }
-            self.block_sums[m - 1] += sq / np as f64;
-            self.block_counts[m - 1] += 1;
-        }
-        self.points += 1;
-        if k == 0 {
-            self.block_first = 0;
-            self.block_twice_ke = self.twice_ke;
-        } else if k - self.block_first >= (self.lags * self.block_windows) as u64 {
-            self.close_block(k);
-        }
-    }
-
-    /// Closes the block ending at grid point `k` and starts the next there.
-    fn close_block(&mut self, k: u64) {
-        let start = self.start + self.block_first as f64 * self.spacing;
-        let end = self.start + k as f64 * self.spacing;
-        let kt =
-            (self.twice_ke - self.block_twice_ke) / ((end - start) * (self.dim * self.n) as f64);
-        let mean_square: Vec<f64> = self
-            .block_sums
-            .iter()
-            .zip(&self.block_counts)
-            .map(|(&s, &c)| if c > 0 { s / c as f64 } else { f64::NAN })
-            .collect();
-        let eta = self.fit(&mean_square, kt);
-        for m in 0..self.lags {
-            self.sums[m] += self.block_sums[m];
-            self.counts[m] += self.block_counts[m];
-        }
-        self.blocks.push(ViscosityBlock {
-            start,
-            end,
-            kt,
-            mean_square,
-            eta,
-        });
-        self.block_sums.iter_mut().for_each(|s| *s = 0.0);
-        self.block_counts.iter_mut().for_each(|c| *c = 0);
-        self.block_first = k;
-        self.block_twice_ke = self.twice_ke;
-    }
-
-    /// The first window length (in grid steps, from 1) of the fit.
-    fn fit_first(&self) -> usize {
-        (self.lags / 2).max(1)
-    }
-
-    /// The slope of `<Delta G^2> / (2 V kT)` against `tau` over the fitted windows.
-    fn fit(&self, mean_square: &[f64], kt: f64) -> f64 {
-        let points: Vec<(f64, f64)> = (self.fit_first()..=self.lags)
-            .map(|m| {
-                (
-                    m as f64 * self.spacing,
-                    mean_square[m - 1] / (2.0 * self.volume * kt),
-                )
-            })
-            .filter(|p| p.1.is_finite())
-            .collect();
-        match linear_fit(&points) {
-            Some((slope, _)) => slope,
-            // One window length: the ratio itself.
-            None => points.first().map_or(f64::NAN, |p| p.1 / p.0),
+        let twice_ke = self.twice_ke_now();
+        for c in self.windows.advance_to(t, &rates[..ps.len()], twice_ke) {
+            let kt = c.twice_ke / ((c.end - c.start) * (self.dim * self.n) as f64);
+            let eta = self.windows.fit(&c.mean_square, 2.0 * self.volume * kt);
+            self.blocks.push(ViscosityBlock {
+                start: c.start,
+                end: c.end,
+                kt,
+                mean_square: c.mean_square,
+                eta,
+            });
         }
     }
 
@@ -486,17 +648,12 @@ impl Viscosity {
 
     /// The grid spacing and the number of window lengths.
     pub fn grid(&self) -> (f64, usize) {
-        (self.spacing, self.lags)
+        self.windows.grid()
     }
 
     /// Time-averaged `kT` over the closed blocks (`NaN` before the first).
     fn mean_kt(&self) -> f64 {
-        let elapsed: f64 = self.blocks.iter().map(|b| b.end - b.start).sum();
-        self.blocks
-            .iter()
-            .map(|b| b.kt * (b.end - b.start))
-            .sum::<f64>()
-            / elapsed
+        mean_kt(self.blocks.iter().map(|b| (b.start, b.end, b.kt)))
     }
 
     /// `(tau, <Delta G^2> / (2 V kT tau), <Delta G^2>)` per window length over the closed
@@ -505,39 +662,27 @@ impl Viscosity {
         if self.blocks.is_empty() {
             return Vec::new();
         }
-        let kt = self.mean_kt();
-        (1..=self.lags)
-            .filter(|&m| self.counts[m - 1] > 0)
-            .map(|m| {
-                let tau = m as f64 * self.spacing;
-                let msq = self.sums[m - 1] / self.counts[m - 1] as f64;
-                (tau, msq / (2.0 * self.volume * kt * tau), msq)
-            })
-            .collect()
+        self.windows.curve(2.0 * self.volume * self.mean_kt())
     }
 
     /// The viscosity over the closed blocks, with its error.
     pub fn summary(&self) -> ViscositySummary {
         let kt = self.mean_kt();
-        let mean_square: Vec<f64> = self
-            .sums
-            .iter()
-            .zip(&self.counts)
-            .map(|(&s, &c)| if c > 0 { s / c as f64 } else { f64::NAN })
-            .collect();
+        let mean_square = self.windows.mean_square();
+        let scale = 2.0 * self.volume * kt;
         let eta = if self.blocks.is_empty() {
             f64::NAN
         } else {
-            self.fit(&mean_square, kt)
+            self.windows.fit(&mean_square, scale)
         };
         let block_etas: Vec<f64> = self.blocks.iter().map(|b| b.eta).collect();
-        let window = self.lags as f64 * self.spacing;
+        let window = self.windows.window();
         ViscositySummary {
             eta: Estimate::new(eta, &block_etas),
-            eta_at_window: mean_square[self.lags - 1] / (2.0 * self.volume * kt * window),
+            eta_at_window: mean_square[mean_square.len() - 1] / (scale * window),
             window,
-            fit_from: self.fit_first() as f64 * self.spacing,
-            spacing: self.spacing,
+            fit_from: self.windows.fit_from(),
+            spacing: self.windows.grid().0,
             kt,
             elapsed: self.blocks.iter().map(|b| b.end - b.start).sum(),
             eta_enskog: enskog_viscosity(self.dim, self.packing, self.sigma, kt, self.mass),
@@ -589,7 +734,7 @@ impl<const D: usize> Observer<D> for Viscosity {
             for (k, &(a, b)) in pairs(D).iter().enumerate() {
                 // The symmetric form: the same as r_a J_b for central impulses, and not
                 // dependent on which axis comes first when rounding makes them differ.
-                self.moment[k] += 0.5 * (r[a] * impulse[b] + r[b] * impulse[a]);
+                self.windows.moment[k] += 0.5 * (r[a] * impulse[b] + r[b] * impulse[a]);
             }
         }
     }

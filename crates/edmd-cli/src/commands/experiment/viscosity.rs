@@ -1,5 +1,5 @@
-//! `edmd experiment viscosity`: the shear viscosity of the hard-sphere (or, with `--dim 2`,
-//! hard-disc) fluid against Enskog's theory.
+//! `edmd experiment viscosity`: the shear viscosity and the thermal conductivity of the
+//! hard-sphere (or, with `--dim 2`, hard-disc) fluid against Enskog's theory.
 //!
 //! For each packing fraction: N particles in a periodic box, melted, then the Einstein-Helfand
 //! viscosity `eta = lim <Delta G_xy(tau)^2> / (2 V kT tau)` (E. Helfand, Phys. Rev. 119, 1
@@ -12,14 +12,23 @@
 //! higher Sonine approximations' factor 1.016 on the kinetic part. Alder, Gass and
 //! Wainwright's factors `eta / eta_E` are not drawn: their table was not at hand to check
 //! (`eta_agw` is `null`).
+//!
+//! The thermal conductivity is measured in the same runs by the same route
+//! ([`edmd_core::measure::Conductivity`]: `lambda = lim <Delta G_x(tau)^2> / (2 V kT^2 tau)`
+//! with `G_x = sum_i x_i e_i`, windows up to 20 mean collision times, blocks of four windows,
+//! so half as many blocks as the viscosity's), and drawn as `lambda / lambda_0` against
+//! Enskog's `lambda_E / lambda_0` (Chapman and Cowling section 16.5; Gass 1971 for discs), and
+//! for spheres with the higher Sonine approximations' factor 1.025 on the kinetic part.
 
 use anyhow::Result;
 use clap::Args;
-use edmd_core::measure::theory::contact_value;
+use edmd_core::measure::theory::{
+    contact_value, enskog_conductivity_ratio, enskog_conductivity_ratio_chapman_cowling,
+};
 use edmd_core::measure::viscosity::{
     dilute_viscosity, enskog_ratio, enskog_ratio_chapman_cowling, BLOCK_WINDOWS,
 };
-use edmd_core::measure::Viscosity;
+use edmd_core::measure::{Conductivity, Viscosity};
 use edmd_core::Boundary;
 use edmd_plot::{Figure, Series};
 use serde::Serialize;
@@ -47,7 +56,7 @@ pub struct ViscosityArgs {
     pub melt: u64,
     /// Blocks to measure over, each four windows of 10 mean collision times (the error bar
     /// shrinks as one over the square root of the blocks: about 1.5 % for spheres and 3 % for
-    /// discs at 800).
+    /// discs at 800). The thermal conductivity's blocks are twice as long (half as many).
     #[arg(long, default_value_t = 800, allow_negative_numbers = true)]
     pub blocks: usize,
     /// Shared options.
@@ -78,6 +87,19 @@ pub struct Point {
     pub eta_agw: Option<f64>,
     /// The dilute gas's first Sonine viscosity at the measured kT, the unit of the figure.
     pub eta_0: f64,
+    /// Measured thermal conductivity (k_B = 1).
+    pub lambda: f64,
+    /// Its statistical error (one standard deviation, from its blocks).
+    pub lambda_error: f64,
+    /// Enskog's thermal conductivity at the measured kT.
+    pub lambda_enskog: f64,
+    /// Chapman and Cowling's Enskog conductivity with the factor 1.025 on the kinetic part
+    /// (spheres only).
+    pub lambda_enskog_cc: Option<f64>,
+    /// The dilute gas's first Sonine conductivity at the measured kT, the unit of its figure.
+    pub lambda_0: f64,
+    /// The conductivity's blocks (each twice the viscosity's).
+    pub lambda_blocks: usize,
     /// Time-averaged kT.
     pub kt: f64,
     /// The longest window.
@@ -145,6 +167,7 @@ fn run_in<const D: usize>(args: &ViscosityArgs) -> Result<()> {
             break 'packings;
         };
         let mut visc = Viscosity::for_fluid(&sim);
+        let mut cond = Conductivity::for_fluid(&sim);
         let (spacing, lags) = visc.grid();
         let block = spacing * (lags * BLOCK_WINDOWS) as f64;
         let (t0, c0) = (sim.time(), sim.stats().disc_disc);
@@ -154,13 +177,15 @@ fn run_in<const D: usize>(args: &ViscosityArgs) -> Result<()> {
             }
             // A block past its last grid point, so that it closes.
             let t = t0 + (b + 1) as f64 * block + 0.5 * spacing;
-            if !edmd::run_until_or_stop(&mut sim, t, &mut visc)? {
+            if !edmd::run_until_or_stop(&mut sim, t, &mut (&mut visc, &mut cond))? {
                 break 'packings;
             }
             progress.set((k * args.blocks + b + 1) as u64);
         }
         visc.sample(&sim);
+        cond.sample(&sim);
         let s = visc.summary();
+        let c = cond.summary();
         let eta_0 = dilute_viscosity(D, 1.0, s.kt, 1.0);
         let chi = contact_value(phi, D);
         results.push(Point {
@@ -173,6 +198,13 @@ fn run_in<const D: usize>(args: &ViscosityArgs) -> Result<()> {
             eta_enskog_cc: (D == 3).then(|| enskog_ratio_chapman_cowling(phi, chi) * eta_0),
             eta_agw: None,
             eta_0,
+            lambda: c.lambda.value,
+            lambda_error: c.lambda.error,
+            lambda_enskog: c.lambda_enskog,
+            lambda_enskog_cc: (D == 3)
+                .then(|| enskog_conductivity_ratio_chapman_cowling(phi, chi) * c.lambda_0),
+            lambda_0: c.lambda_0,
+            lambda_blocks: c.lambda.blocks,
             kt: s.kt,
             window: s.window,
             fit_from: s.fit_from,
@@ -195,6 +227,13 @@ fn run_in<const D: usize>(args: &ViscosityArgs) -> Result<()> {
             "eta_enskog_cc",
             "eta_over_eta0",
             "eta_error_over_eta0",
+            "lambda",
+            "lambda_error",
+            "lambda_0",
+            "lambda_enskog",
+            "lambda_enskog_cc",
+            "lambda_over_lambda0",
+            "lambda_error_over_lambda0",
             "kT",
         ],
         results.iter().map(|p| {
@@ -207,6 +246,13 @@ fn run_in<const D: usize>(args: &ViscosityArgs) -> Result<()> {
                 p.eta_enskog_cc.unwrap_or(f64::NAN),
                 p.eta / p.eta_0,
                 p.eta_error / p.eta_0,
+                p.lambda,
+                p.lambda_error,
+                p.lambda_0,
+                p.lambda_enskog,
+                p.lambda_enskog_cc.unwrap_or(f64::NAN),
+                p.lambda / p.lambda_0,
+                p.lambda_error / p.lambda_0,
                 p.kt,
             ]
         }),
@@ -250,6 +296,41 @@ fn run_in<const D: usize>(args: &ViscosityArgs) -> Result<()> {
             results.iter().map(|p| p.eta_error / p.eta_0).collect(),
         ))
         .save(&dir.join("viscosity"))?;
+    let mut figure = Figure::new(
+        &format!(
+            "Thermal conductivity of hard {what} ({} {what}, periodic)",
+            args.n
+        ),
+        "packing fraction phi",
+        "lambda / lambda_0",
+    )
+    .with(Series::line(
+        if D == 3 {
+            "Enskog (Chapman and Cowling, first Sonine)"
+        } else {
+            "Enskog (Gass 1971)"
+        },
+        grid(&|phi| enskog_conductivity_ratio(D, phi, contact_value(phi, D))),
+    ));
+    if D == 3 {
+        figure = figure.with(Series::line(
+            "Enskog with the 1.025 factor (Chapman and Cowling)",
+            grid(&|phi| enskog_conductivity_ratio_chapman_cowling(phi, contact_value(phi, 3))),
+        ));
+    }
+    let (png_lambda, svg_lambda) = figure
+        .with(Series::error_bars(
+            "edmd, Einstein-Helfand",
+            results
+                .iter()
+                .map(|p| (p.packing, p.lambda / p.lambda_0))
+                .collect(),
+            results
+                .iter()
+                .map(|p| p.lambda_error / p.lambda_0)
+                .collect(),
+        ))
+        .save(&dir.join("conductivity"))?;
     let mut human = format!(
         "shear viscosity, {} {what}, periodic box (units: diameter, mass, kT = 1):\n  packing       eta     error    Enskog  eta/Enskog   eta/eta_0\n",
         args.n
@@ -265,10 +346,22 @@ fn run_in<const D: usize>(args: &ViscosityArgs) -> Result<()> {
             p.eta / p.eta_0
         );
     }
+    human += "thermal conductivity (k_B = 1):\n  packing    lambda     error    Enskog  lambda/Enskog  lambda/lambda_0\n";
+    for p in &results {
+        human += &format!(
+            "  {:7.3}  {:8.4}  {:8.4}  {:8.4}  {:13.3}  {:15.3}\n",
+            p.packing,
+            p.lambda,
+            p.lambda_error,
+            p.lambda_enskog,
+            p.lambda / p.lambda_enskog,
+            p.lambda / p.lambda_0
+        );
+    }
     if interrupted {
         human += "interrupted: results so far\n";
     }
-    let files = [csv, png, svg];
+    let files = [csv, png, svg, png_lambda, svg_lambda];
     human += &files_line(&files);
     report(
         &args.common,
