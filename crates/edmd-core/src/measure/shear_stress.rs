@@ -33,13 +33,12 @@ use crate::simulation::Simulation;
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct ShearStress {
     rate: f64,
-    height: f64,
     volume: f64,
     dim: usize,
     mass: Vec<f64>,
-    /// Per disc: its clock, its height then, and its velocity (as `[x, y, z]`, `z` 0 in 2D).
+    /// Per disc: its clock, and its velocity relative to the profile then (as `[x, y, z]`,
+    /// `z` 0 in 2D).
     since: Vec<f64>,
-    height_at: Vec<f64>,
     velocity: Vec<[f64; 3]>,
     block_start: f64,
     /// This block's integrals of `sum m c_x c_y` and `sum m |c|^2`, and its collisional sum.
@@ -102,13 +101,11 @@ impl ShearStress {
         let t = sim.time();
         Some(ShearStress {
             rate: shear.rate,
-            height: sim.sim_box().lengths[1],
             volume: sim.sim_box().volume(),
             dim: D,
             mass: (0..n).map(|i| sim.mass(i)).collect(),
             since: vec![t; n],
-            height_at: (0..n).map(|i| sim.position(i)[1]).collect(),
-            velocity: (0..n).map(|i| widen(sim.velocity(i))).collect(),
+            velocity: (0..n).map(|i| widen(sim.peculiar_velocity(i))).collect(),
             block_start: t,
             block_kinetic: 0.0,
             block_twice_ke: 0.0,
@@ -120,9 +117,9 @@ impl ShearStress {
     /// Adds disc `i`'s flight from its clock to `t` and starts its next from `sim`'s state.
     fn flush<const D: usize>(&mut self, i: usize, t: f64, sim: &Simulation<D>) {
         let dt = t - self.since[i];
-        let [vx, vy, vz] = self.velocity[i];
-        // c_x(s) = a - b s over the flight, c_y = vy.
-        let a = vx - self.rate * (self.height_at[i] - 0.5 * self.height);
+        // c_x(s) = a - b s over the flight (the profile's velocity grows as the disc rises),
+        // c_y = vy.
+        let [a, vy, vz] = self.velocity[i];
         let b = self.rate * vy;
         let m = self.mass[i];
         self.block_kinetic += m * vy * (a * dt - 0.5 * b * dt * dt);
@@ -130,8 +127,7 @@ impl ShearStress {
             * ((a * a * dt - a * b * dt * dt + b * b * dt * dt * dt / 3.0)
                 + (vy * vy + vz * vz) * dt);
         self.since[i] = t;
-        self.height_at[i] = sim.position(i)[1];
-        self.velocity[i] = widen(sim.velocity(i));
+        self.velocity[i] = widen(sim.peculiar_velocity(i));
     }
 
     /// Closes the current block at the simulation's current time.

@@ -210,8 +210,11 @@ impl<const D: usize> Simulation<D> {
     }
 
     /// Disc `i`'s velocity relative to the streaming profile now (its velocity without shear).
+    /// Taken at the height the disc's record holds, not folded into the box: just after a
+    /// crossing of the boundary that height can be a rounding error outside, and the velocity
+    /// is that of the image it is in (folded, the profile would be off by `gamma L_y`).
     pub fn peculiar_velocity(&self, i: usize) -> Vector<D> {
-        let p = self.position(i);
+        let p = self.position_of(i, self.now);
         self.velocity(i) - self.streaming_velocity(p)
     }
 

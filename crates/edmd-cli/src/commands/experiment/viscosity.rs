@@ -19,17 +19,27 @@
 //! so half as many blocks as the viscosity's), and drawn as `lambda / lambda_0` against
 //! Enskog's `lambda_E / lambda_0` (Chapman and Cowling section 16.5; Gass 1971 for discs), and
 //! for spheres with the higher Sonine approximations' factor 1.025 on the kinetic part.
+//!
+//! The shear viscosity's second route is steady shear: the same fluid, sheared with
+//! Lees-Edwards boundaries at `--shear-rate` (in units of `sqrt(kT / m) / sigma`) from the
+//! streaming profile, under an Andersen thermostat about the profile at one redraw per 20 mean
+//! collision times, relaxed for 50 mean collision times and measured over `--shear-blocks`
+//! blocks of 50 ([`edmd_core::measure::ShearStress`]: `eta = -P_xy / gamma`, the pressure
+//! tensor's kinetic part from exact integrals over each flight and its collisional part from
+//! the collisions' virial), against Enskog's at the sheared fluid's own temperature, which
+//! the shear raises a little above the bath's.
 
 use anyhow::Result;
 use clap::Args;
 use edmd_core::measure::theory::{
     contact_value, enskog_conductivity_ratio, enskog_conductivity_ratio_chapman_cowling,
 };
+use edmd_core::measure::viscosity::enskog_viscosity;
 use edmd_core::measure::viscosity::{
     dilute_viscosity, enskog_ratio, enskog_ratio_chapman_cowling, BLOCK_WINDOWS,
 };
-use edmd_core::measure::{Conductivity, Viscosity};
-use edmd_core::Boundary;
+use edmd_core::measure::{Conductivity, ShearStress, Viscosity};
+use edmd_core::{Andersen, Boundary, Shear, Simulation};
 use edmd_plot::{Figure, Series};
 use serde::Serialize;
 
@@ -59,6 +69,13 @@ pub struct ViscosityArgs {
     /// discs at 800). The thermal conductivity's blocks are twice as long (half as many).
     #[arg(long, default_value_t = 800, allow_negative_numbers = true)]
     pub blocks: usize,
+    /// Shear rate of the steady-shear route, in units of sqrt(kT / m) / sigma (well below 1:
+    /// the viscosity there is the Newtonian one); 0 leaves that route out.
+    #[arg(long, default_value_t = 0.1, allow_negative_numbers = true)]
+    pub shear_rate: f64,
+    /// Blocks of the steady-shear route, each 50 mean collision times.
+    #[arg(long, default_value_t = 20, allow_negative_numbers = true)]
+    pub shear_blocks: usize,
     /// Shared options.
     #[command(flatten)]
     pub common: CommonArgs,
@@ -102,6 +119,18 @@ pub struct Point {
     pub lambda_blocks: usize,
     /// Time-averaged kT.
     pub kt: f64,
+    /// The shear rate of the steady-shear route (`null` when left out).
+    pub shear_rate: Option<f64>,
+    /// The shear viscosity in steady shear, `-P_xy / gamma`.
+    pub eta_shear: Option<f64>,
+    /// Its statistical error (from its blocks).
+    pub eta_shear_error: Option<f64>,
+    /// Enskog's viscosity at the sheared fluid's kT.
+    pub eta_shear_enskog: Option<f64>,
+    /// The sheared fluid's kT (of the velocities relative to the streaming profile).
+    pub kt_shear: Option<f64>,
+    /// The shear rate in units of sqrt(kT / m) / sigma at that kT.
+    pub shear_reduced_rate: Option<f64>,
     /// The longest window.
     pub window: f64,
     /// The shortest window in the fit.
@@ -152,6 +181,19 @@ fn run_in<const D: usize>(args: &ViscosityArgs) -> Result<()> {
     check_n("viscosity", args.n, 16)?;
     check_count("viscosity", "melt", args.melt, 0, 100_000)?;
     check_count("viscosity", "blocks", args.blocks as u64, 2, 100_000)?;
+    check_count(
+        "viscosity",
+        "shear-blocks",
+        args.shear_blocks as u64,
+        2,
+        100_000,
+    )?;
+    if !(args.shear_rate.is_finite() && (0.0..=1.0).contains(&args.shear_rate)) {
+        return edmd::user_error(format!(
+            "viscosity: --shear-rate {} must be in [0, 1]",
+            args.shear_rate
+        ));
+    }
     let dir = out_dir(&args.common)?;
     let progress = Progress::new((packings.len() * args.blocks) as u64, "viscosity");
     let mut results = Vec::new();
@@ -186,6 +228,21 @@ fn run_in<const D: usize>(args: &ViscosityArgs) -> Result<()> {
         cond.sample(&sim);
         let s = visc.summary();
         let c = cond.summary();
+        let sheared = if args.shear_rate > 0.0 {
+            let seed = args.common.seed.wrapping_add(1000 + k as u64);
+            match steady_shear(
+                sim.clone(),
+                args.shear_rate,
+                4.0 * spacing,
+                args.shear_blocks,
+                seed,
+            )? {
+                Some(r) => Some(r),
+                None => break 'packings,
+            }
+        } else {
+            None
+        };
         let eta_0 = dilute_viscosity(D, 1.0, s.kt, 1.0);
         let chi = contact_value(phi, D);
         results.push(Point {
@@ -206,6 +263,12 @@ fn run_in<const D: usize>(args: &ViscosityArgs) -> Result<()> {
             lambda_0: c.lambda_0,
             lambda_blocks: c.lambda.blocks,
             kt: s.kt,
+            shear_rate: sheared.map(|r| r.rate),
+            eta_shear: sheared.map(|r| r.eta.value),
+            eta_shear_error: sheared.map(|r| r.eta.error),
+            eta_shear_enskog: sheared.map(|r| enskog_viscosity(D, phi, 1.0, r.kt.value, 1.0)),
+            kt_shear: sheared.map(|r| r.kt.value),
+            shear_reduced_rate: sheared.map(|r| r.reduced_rate),
             window: s.window,
             fit_from: s.fit_from,
             blocks: s.eta.blocks,
@@ -235,6 +298,12 @@ fn run_in<const D: usize>(args: &ViscosityArgs) -> Result<()> {
             "lambda_over_lambda0",
             "lambda_error_over_lambda0",
             "kT",
+            "eta_shear",
+            "eta_shear_error",
+            "eta_shear_enskog",
+            "eta_shear_over_eta0",
+            "eta_shear_error_over_eta0",
+            "kT_shear",
         ],
         results.iter().map(|p| {
             vec![
@@ -254,6 +323,12 @@ fn run_in<const D: usize>(args: &ViscosityArgs) -> Result<()> {
                 p.lambda / p.lambda_0,
                 p.lambda_error / p.lambda_0,
                 p.kt,
+                p.eta_shear.unwrap_or(f64::NAN),
+                p.eta_shear_error.unwrap_or(f64::NAN),
+                p.eta_shear_enskog.unwrap_or(f64::NAN),
+                shear_over_eta0(p).map_or(f64::NAN, |r| r.0),
+                shear_over_eta0(p).map_or(f64::NAN, |r| r.1),
+                p.kt_shear.unwrap_or(f64::NAN),
             ]
         }),
     )?;
@@ -286,16 +361,26 @@ fn run_in<const D: usize>(args: &ViscosityArgs) -> Result<()> {
             grid(&|phi| enskog_ratio_chapman_cowling(phi, contact_value(phi, 3))),
         ));
     }
-    let (png, svg) = figure
-        .with(Series::error_bars(
-            "edmd, Einstein-Helfand",
-            results
-                .iter()
-                .map(|p| (p.packing, p.eta / p.eta_0))
-                .collect(),
-            results.iter().map(|p| p.eta_error / p.eta_0).collect(),
-        ))
-        .save(&dir.join("viscosity"))?;
+    figure = figure.with(Series::error_bars(
+        "edmd, Einstein-Helfand",
+        results
+            .iter()
+            .map(|p| (p.packing, p.eta / p.eta_0))
+            .collect(),
+        results.iter().map(|p| p.eta_error / p.eta_0).collect(),
+    ));
+    let shear_points: Vec<(f64, (f64, f64))> = results
+        .iter()
+        .filter_map(|p| shear_over_eta0(p).map(|r| (p.packing, r)))
+        .collect();
+    if !shear_points.is_empty() {
+        figure = figure.with(Series::error_bars(
+            "edmd, steady shear",
+            shear_points.iter().map(|&(x, (y, _))| (x, y)).collect(),
+            shear_points.iter().map(|&(_, (_, e))| e).collect(),
+        ));
+    }
+    let (png, svg) = figure.save(&dir.join("viscosity"))?;
     let mut figure = Figure::new(
         &format!(
             "Thermal conductivity of hard {what} ({} {what}, periodic)",
@@ -346,6 +431,29 @@ fn run_in<const D: usize>(args: &ViscosityArgs) -> Result<()> {
             p.eta / p.eta_0
         );
     }
+    if args.shear_rate > 0.0 {
+        human += "steady shear (Lees-Edwards, Andersen thermostat about the profile):\n  packing  rate*   eta_shear     error    Enskog  eta/Enskog     kT\n";
+        for p in &results {
+            if let (Some(e), Some(err), Some(en), Some(r), Some(kt)) = (
+                p.eta_shear,
+                p.eta_shear_error,
+                p.eta_shear_enskog,
+                p.shear_reduced_rate,
+                p.kt_shear,
+            ) {
+                human += &format!(
+                    "  {:7.3}  {:5.3}  {:10.4}  {:8.4}  {:8.4}  {:10.3}  {:5.3}\n",
+                    p.packing,
+                    r,
+                    e,
+                    err,
+                    en,
+                    e / en,
+                    kt
+                );
+            }
+        }
+    }
     human += "thermal conductivity (k_B = 1):\n  packing    lambda     error    Enskog  lambda/Enskog  lambda/lambda_0\n";
     for p in &results {
         human += &format!(
@@ -378,4 +486,50 @@ fn run_in<const D: usize>(args: &ViscosityArgs) -> Result<()> {
         return interrupted_after(&files);
     }
     Ok(())
+}
+
+/// The steady-shear viscosity over the dilute gas's at the sheared fluid's kT, and its error.
+fn shear_over_eta0(p: &Point) -> Option<(f64, f64)> {
+    let (eta, err, kt) = (p.eta_shear?, p.eta_shear_error?, p.kt_shear?);
+    let eta_0 = dilute_viscosity(p.dim, 1.0, kt, 1.0);
+    Some((eta / eta_0, err / eta_0))
+}
+
+/// The steady-shear route on a melted fluid at kT = 1 whose mean collision time is `tau`:
+/// sheared at `rate` from the streaming profile, under a thermostat about it, relaxed for 50
+/// `tau` and measured over `blocks` blocks of 50 `tau`. `None` when stopped by Ctrl-C.
+fn steady_shear<const D: usize>(
+    mut sim: Simulation<D>,
+    rate: f64,
+    tau: f64,
+    blocks: usize,
+    seed: u64,
+) -> Result<Option<edmd_core::measure::ShearStressSummary>> {
+    let ly = sim.sim_box().lengths[1];
+    sim.set_shear(Some(Shear::new(rate)))?;
+    let ys: Vec<f64> = (0..sim.len()).map(|i| sim.position(i)[1]).collect();
+    sim.modify_velocities(|i, mut v| {
+        v[0] += rate * (ys[i] - 0.5 * ly);
+        v
+    });
+    sim.set_thermostat(Some(Andersen {
+        kt: 1.0,
+        rate: 0.05 / tau,
+        seed,
+    }))?;
+    let block = 50.0 * tau;
+    let t0 = sim.time() + block;
+    if stop_requested() || !edmd::run_until_or_stop(&mut sim, t0, &mut ())? {
+        return Ok(None);
+    }
+    let mut stress = ShearStress::new(&sim).expect("a sheared simulation");
+    for b in 1..=blocks {
+        if stop_requested()
+            || !edmd::run_until_or_stop(&mut sim, t0 + b as f64 * block, &mut stress)?
+        {
+            return Ok(None);
+        }
+        stress.sample(&sim);
+    }
+    Ok(stress.summary(1.0, 1.0))
 }
