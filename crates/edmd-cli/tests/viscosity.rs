@@ -129,6 +129,8 @@ fn the_experiment_gives_eta_against_enskog() {
             "4",
             "--melt",
             "10",
+            "--shear-blocks",
+            "2",
             "--out-dir",
             dir.path().to_str().unwrap(),
             "--json",
@@ -139,9 +141,22 @@ fn the_experiment_gives_eta_against_enskog() {
     let rows = s["results"].as_array().unwrap();
     assert_eq!(rows.len(), 2);
     for r in rows {
-        for key in ["eta", "eta_error", "eta_enskog", "kt", "packing"] {
+        for key in [
+            "eta",
+            "eta_error",
+            "eta_enskog",
+            "kt",
+            "packing",
+            "eta_shear",
+            "eta_shear_error",
+            "eta_shear_enskog",
+            "kt_shear",
+            "shear_rate",
+        ] {
             assert!(r[key].is_number(), "{key} in {r}");
         }
+        // The sheared fluid's viscosity is positive: -P_xy has the sign of the rate.
+        assert!(r["eta_shear"].as_f64().unwrap() > 0.0, "{r}");
         assert_eq!(r["dim"], 2);
         assert_eq!(r["n"], 64);
         assert_eq!(r["blocks"], 4);
@@ -152,4 +167,48 @@ fn the_experiment_gives_eta_against_enskog() {
     for f in ["viscosity.csv", "viscosity.png", "viscosity.svg"] {
         assert!(dir.path().join(f).exists(), "{f}");
     }
+}
+
+#[test]
+fn the_steady_shear_route_can_be_left_out_and_its_rate_is_checked() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path().to_str().unwrap();
+    let s = summary(&run(
+        "edmd",
+        &[
+            "experiment",
+            "viscosity",
+            "--dim",
+            "2",
+            "--n",
+            "64",
+            "--packing",
+            "0.2",
+            "--blocks",
+            "2",
+            "--melt",
+            "5",
+            "--shear-rate",
+            "0",
+            "--out-dir",
+            d,
+            "--json",
+        ],
+        None,
+    ));
+    let r = &s["results"][0];
+    assert!(r["eta_shear"].is_null() && r["shear_rate"].is_null(), "{r}");
+    let out = run(
+        "edmd",
+        &[
+            "experiment",
+            "viscosity",
+            "--shear-rate",
+            "2",
+            "--out-dir",
+            d,
+        ],
+        None,
+    );
+    refused(&out, &["--shear-rate 2"]);
 }
