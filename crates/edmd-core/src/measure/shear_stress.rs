@@ -114,6 +114,18 @@ impl ShearStress {
         })
     }
 
+    /// Whether this measurement (read back from a checkpoint, say) can go on observing `sim`:
+    /// the same dimension, discs, box and shear rate.
+    pub fn fits<const D: usize>(&self, sim: &Simulation<D>) -> bool {
+        let n = sim.len();
+        self.dim == D
+            && self.mass.len() == n
+            && self.since.len() == n
+            && self.velocity.len() == n
+            && self.volume == sim.sim_box().volume()
+            && sim.shear().is_some_and(|s| s.rate == self.rate)
+    }
+
     /// Adds disc `i`'s flight from its clock to `t` and starts its next from `sim`'s state.
     fn flush<const D: usize>(&mut self, i: usize, t: f64, sim: &Simulation<D>) {
         let dt = t - self.since[i];
