@@ -31,7 +31,11 @@ Contents:
   ``restitution``, with the kinetic energy lost in ``dissipated``; a uniform field with
   ``set_gravity(-9.81)`` (along the last axis, or ``axis="x"``; or ``from_arrays(gravity=...)``,
   ``gen.fluid(gravity=...)``, a file's ``# edmd gravity`` line), read back as ``gravity``, with
-  its energy in ``field_energy`` (part of ``potential_energy``).
+  its energy in ``field_energy`` (part of ``potential_energy``); Lees-Edwards boundaries with
+  ``set_shear(0.1)`` (simple shear flow along x, its gradient along y; or
+  ``from_arrays(shear=...)``, ``gen.fluid(shear=...)``, a file's ``# edmd shear`` line), read
+  back as ``shear`` (rate and offset), with ``peculiar_velocities`` and
+  ``peculiar_kinetic_energy`` relative to the streaming profile.
 - :mod:`edmd.gen`: the generators of ``edmd gen`` (fluids, mixtures, the Princeton data sets).
 - :func:`pack`: the compression of ``edmd pack`` (Lubachevsky-Stillinger) to a jammed packing
   or to a packing fraction; returns ``(sim, summary)``: the packing as a :class:`Simulation`

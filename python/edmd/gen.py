@@ -8,8 +8,10 @@ simulation returned; ``restitution`` (every kind) makes its collisions inelastic
 ``Simulation.set_restitution`` takes it (``edmd gen KIND --restitution ...``); ``gravity=G``
 (every kind) puts the system in a uniform field of acceleration ``G`` along the last axis (y in
 2D, z in 3D; negative pulls towards 0), which then has walls (``edmd gen KIND --gravity G``;
-fluids and mixtures keep periodic sides unless ``boundary="walls"``). A value of the wrong type
-(a str for a number, a bool or a float for a count) raises ``TypeError`` naming the argument.
+fluids and mixtures keep periodic sides unless ``boundary="walls"``); ``shear=RATE`` (fluids
+and mixtures in periodic boxes) shears them with Lees-Edwards boundaries, the velocities on the
+streaming profile (``edmd gen KIND --shear RATE``). A value of the wrong type (a str for a
+number, a bool or a float for a count) raises ``TypeError`` naming the argument.
 
 Example::
 
@@ -19,6 +21,7 @@ Example::
     sim = edmd.gen.fluid(n=500, packing=0.3, well=1.5, seed=4)   # a square-well fluid
     sim = edmd.gen.fluid(n=500, packing=0.3, restitution=0.9, seed=5)   # a granular gas
     sim = edmd.gen.fluid(n=500, packing=0.3, gravity=-1.0, seed=6)      # a column in a field
+    sim = edmd.gen.fluid(n=500, packing=0.3, shear=0.2, seed=7)         # in simple shear flow
 """
 
 from edmd import _check
@@ -27,7 +30,7 @@ from edmd._edmd import _generate as _compiled_generate
 # The options whose values are numbers, whole numbers, text and flags (`edmd gen`'s).
 _REAL = ("radius", "speed", "mass", "kt", "packing", "angle", "impact", "region", "big_radius",
          "big_mass", "size_ratio", "fraction_large", "spread", "well", "shoulder", "depth",
-         "gravity")
+         "gravity", "shear")
 
 
 def _generate(kind, **options):
@@ -146,7 +149,7 @@ def brownian(*, n=None, radius=None, mass=None, big_radius=None, big_mass=None, 
 
 def fluid(*, n=None, packing=None, dim=2, boundary=None, well=None, shoulder=None, depth=None,
           kt=None, seed=1, rule="elastic", multi=False, species=None, reactions=None,
-          restitution=None, gravity=None):
+          restitution=None, gravity=None, shear=None):
     """A melted fluid of ``n`` equal discs (``dim=2``) or spheres (``dim=3``) at packing
     fraction ``packing``, with "periodic" (default) or "walls" ``boundary``
     (``edmd gen fluid``).
@@ -177,6 +180,12 @@ def fluid(*, n=None, packing=None, dim=2, boundary=None, well=None, shoulder=Non
     with a well or a shoulder, and inelastic collisions in a field need the TC model
     (``restitution={..., "tc": t}``, t > 0). Every generator takes it.
 
+    ``shear=RATE`` shears the fluid with Lees-Edwards boundaries (``edmd gen fluid --shear
+    RATE``): the images across y slide along x at ``RATE * L_y`` from an offset of 0, and
+    ``RATE * (y - L_y / 2)`` is added to each x velocity so that the run starts in steady flow;
+    ``sim.shear`` is then ``(RATE, 0.0)``. It needs a periodic box and does not go with a well,
+    a shoulder or ``gravity``; ``mixture`` takes it too.
+
     >>> sim = edmd.gen.fluid(n=1000, packing=0.5, seed=1)
     >>> sw = edmd.gen.fluid(n=500, packing=0.3, well=1.5, kt=1.2, seed=1)
     >>> ab = edmd.gen.fluid(n=1000, packing=0.3, species=(0.5, 0.5),
@@ -184,21 +193,23 @@ def fluid(*, n=None, packing=None, dim=2, boundary=None, well=None, shoulder=Non
     >>> granular = edmd.gen.fluid(n=1000, packing=0.3, boundary="walls", seed=1,
     ...                           restitution={"all": 0.9, "walls": 0.8, "tc": 1e-4})
     >>> column = edmd.gen.fluid(n=1000, packing=0.3, gravity=-1.0, seed=1)
+    >>> flow = edmd.gen.fluid(n=1000, packing=0.3, shear=0.5, restitution=0.8, seed=1)
     """
     return _generate(
         "fluid", dim=dim, seed=seed, n=n, packing=packing, boundary=boundary, well=well,
         shoulder=shoulder, depth=depth, kt=kt, rule=rule, multi=multi, species=species,
-        reactions=reactions, restitution=restitution, gravity=gravity,
+        reactions=reactions, restitution=restitution, gravity=gravity, shear=shear,
     )
 
 
 def mixture(*, n=None, packing=None, dim=2, boundary=None, size_ratio=None,
             fraction_large=None, spread=None, seed=1, rule="elastic", multi=False,
-            restitution=None, gravity=None):
+            restitution=None, gravity=None, shear=None):
     """A melted mixture: binary (``size_ratio`` large/small diameters, ``fraction_large`` by
-    number) or polydisperse (diameters uniform in 1 +- ``spread``) (``edmd gen mixture``)."""
+    number) or polydisperse (diameters uniform in 1 +- ``spread``) (``edmd gen mixture``);
+    ``shear=RATE`` as in :func:`fluid`."""
     return _generate(
         "mixture", dim=dim, seed=seed, n=n, packing=packing, boundary=boundary,
         size_ratio=size_ratio, fraction_large=fraction_large, spread=spread, rule=rule,
-        multi=multi, restitution=restitution, gravity=gravity,
+        multi=multi, restitution=restitution, gravity=gravity, shear=shear,
     )

@@ -105,7 +105,9 @@ pub struct RunArgs {
     pub every: Option<f64>,
     /// Attach measurements (comma-separated): temperature, pressure, collisions, speeds, msd,
     /// species, energy, rdf, kinetics (species counts over time and the reaction rules' rate
-    /// constants), viscosity (the shear viscosity, periodic boxes only). Their summaries go into the run's summary, and their time series to CSV
+    /// constants), viscosity (the shear viscosity, periodic boxes only), conductivity (the thermal
+    /// conductivity), shear-stress (the shear stress and viscosity of a sheared run). Their
+    /// summaries go into the run's summary, and their time series to CSV
     /// files in --out-dir when it is given (none are written without it).
     #[arg(long, value_enum, value_delimiter = ',')]
     pub measure: Vec<edmd::measure::Measure>,

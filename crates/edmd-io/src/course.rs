@@ -40,6 +40,7 @@ impl CourseSystem {
             reactions: Vec::new(),
             restitution: None,
             gravity: None,
+            shear: None,
         }
     }
 }

@@ -1195,6 +1195,7 @@ fn build<const D: usize>(
         reactions: Vec::new(),
         restitution: None,
         gravity: None,
+        shear: None,
     };
     (system, images)
 }

@@ -25,7 +25,7 @@ pub mod xyz;
 
 pub use text::ParseError;
 
-use edmd_core::{Barrier, Disc, Gravity, Potential, Reaction, Restitution, SimBox};
+use edmd_core::{Barrier, Disc, Gravity, Potential, Reaction, Restitution, Shear, SimBox};
 
 /// A system read from a file, with the line each disc came from (`D = 3` for spheres).
 #[derive(Clone, Debug, PartialEq)]
@@ -54,10 +54,13 @@ pub struct LoadedSystem<const D: usize = 2> {
     /// The uniform field (`# edmd gravity`; none: discs fly straight). Only the Princeton
     /// format holds it.
     pub gravity: Option<Gravity>,
+    /// Lees-Edwards boundaries (`# edmd shear`; none: plain periodic or walled axes), with the
+    /// images' offset at [`LoadedSystem::time`]. Only the Princeton format holds it.
+    pub shear: Option<Shear>,
 }
 
 /// How particles interact besides their hard cores, as the Princeton format's directives say
-/// it: the stepped potential, the reaction rules, the restitution and the field.
+/// it: the stepped potential, the reaction rules, the restitution, the field and the shear.
 #[derive(Clone, Copy, Debug)]
 pub struct Interactions<'a> {
     /// The stepped pair potential (no pairs: hard cores).
@@ -68,6 +71,8 @@ pub struct Interactions<'a> {
     pub restitution: Option<&'a Restitution>,
     /// The uniform field (none: discs fly straight).
     pub gravity: Option<Gravity>,
+    /// Lees-Edwards boundaries, with the images' offset at the time written (none: none).
+    pub shear: Option<Shear>,
 }
 
 /// Hard cores with no steps, for [`Interactions::HARD`].
@@ -80,6 +85,7 @@ impl Interactions<'_> {
         reactions: &[],
         restitution: None,
         gravity: None,
+        shear: None,
     };
 
     /// Whether there is nothing besides hard cores.
@@ -88,6 +94,7 @@ impl Interactions<'_> {
             && self.reactions.is_empty()
             && self.restitution.is_none()
             && self.gravity.is_none()
+            && self.shear.is_none()
     }
 }
 
@@ -200,6 +207,7 @@ pub fn write_with<const D: usize>(
         reactions: &[],
         restitution: None,
         gravity: None,
+        shear: None,
     };
     write_full(out, discs, sim_box, barriers, interactions, format, time)
 }
@@ -232,6 +240,12 @@ pub fn write_full<const D: usize>(
         return Err(std::io::Error::new(
             std::io::ErrorKind::InvalidInput,
             "the course format has no place for a field",
+        ));
+    }
+    if format == Format::Course && interactions.shear.is_some() {
+        return Err(std::io::Error::new(
+            std::io::ErrorKind::InvalidInput,
+            "the course format has no place for shear",
         ));
     }
     if format == Format::Course && interactions.restitution.is_some() {

@@ -33,6 +33,13 @@
 //!   - `# edmd gravity AXIS G`: a uniform field (see `edmd_core::Gravity`): every disc
 //!     accelerated at `G` along axis `x`, `y` (or `z` in 3D), negative towards 0; the axis
 //!     must have walls; at most once, and not with a stepped potential or barriers;
+//!   - `# edmd shear RATE [OFFSET]`: Lees-Edwards boundaries (see `edmd_core::Shear`): the
+//!     images across y slide along x at `RATE * LY` relative to the box, those above shifted by
+//!     `OFFSET` (in `[0, LX)`, default 0) at the file's time, so that the streaming velocity
+//!     is `RATE (y - LY / 2)` along x. The velocities are the lab's, the profile included. x
+//!     and y must be periodic; at most once, and not with a stepped potential, a field or
+//!     barriers. `edmd run` writes the offset it reached, so a written state continues the
+//!     same flow;
 //!   - `# edmd reaction A + B -> C + D [activation E] [probability P] [heat Q]`: a reaction
 //!     rule (see `edmd_core::Reaction` and [`crate::reaction`] for the grammar): a disc of
 //!     species `A` colliding with one of `B` with at least `E` of kinetic energy in their
@@ -50,8 +57,8 @@
 //!   barriers are 2D only. `# edmd dim 2` is allowed and changes nothing.
 
 use edmd_core::{
-    Barrier, Boundary, Demon, Disc, Gravity, PairSteps, Potential, Reaction, Restitution, SimBox,
-    Step, Vector,
+    Barrier, Boundary, Demon, Disc, Gravity, PairSteps, Potential, Reaction, Restitution, Shear,
+    SimBox, Step, Vector,
 };
 
 use crate::text::{count, err, exact, expect_end, number, Lines};
@@ -244,6 +251,7 @@ pub fn parse_in<const D: usize>(
         }
     }
     check_reactions(&d.reactions, &d.potential, &discs, d.time)?;
+    check_shear(&d)?;
     if let Some((line, f)) = d.gravity {
         if d.sim_box.is_periodic(f.axis) {
             return Err(err(
@@ -304,7 +312,39 @@ pub fn parse_in<const D: usize>(
         reactions: d.reactions.into_iter().map(|(_, r)| r).collect(),
         restitution: d.restitution.map(|(_, r)| r),
         gravity: d.gravity.map(|(_, f)| f),
+        shear: d.shear.map(|(_, s)| s),
     })
+}
+
+/// Refuses `# edmd shear` beside what Lees-Edwards boundaries do not go with: a field, a
+/// stepped potential, barriers, walls on x or y, and an offset outside `[0, LX)`.
+fn check_shear<const D: usize>(d: &Directives<D>) -> Result<(), ParseError> {
+    let Some((line, s)) = d.shear else {
+        return Ok(());
+    };
+    if let Some((first, _)) = d.gravity {
+        return Err(err(
+            line,
+            format!("shear does not go with gravity (line {first})"),
+        ));
+    }
+    if let Some((first, _)) = d.potential.first() {
+        return Err(err(
+            line,
+            format!("shear does not go with a stepped potential (line {first})"),
+        ));
+    }
+    if !d.barriers.is_empty() {
+        return Err(err(line, "shear does not go with barriers"));
+    }
+    if !(d.sim_box.is_periodic(0) && d.sim_box.is_periodic(1)) {
+        return Err(err(
+            line,
+            "shear: Lees-Edwards boundaries need periodic x and y axes ('# edmd boundary periodic')",
+        ));
+    }
+    s.validate(D, d.sim_box.lengths[0])
+        .map_err(|e| err(line, e.to_string()))
 }
 
 /// The line of the first `# edmd dim` directive, if any.
@@ -329,6 +369,8 @@ struct Directives<const D: usize> {
     restitution: Option<(usize, Restitution)>,
     /// The field, with its line.
     gravity: Option<(usize, Gravity)>,
+    /// The shear, with its line.
+    shear: Option<(usize, Shear)>,
 }
 
 /// Interprets the `# edmd` directives.
@@ -339,6 +381,8 @@ fn directives<const D: usize>(list: &[(usize, Vec<&str>)]) -> Result<Directives<
     let mut restitution: Option<(usize, Restitution)> = None;
     let mut gravity: Option<(usize, Gravity)> = None;
     let mut seen_gravity: Option<usize> = None;
+    let mut shear: Option<(usize, Shear)> = None;
+    let mut seen_shear: Option<usize> = None;
     let mut parts: Vec<(usize, crate::restitution::Part)> = Vec::new();
     let mut barriers = Vec::new();
     let mut time = 0.0;
@@ -451,6 +495,15 @@ fn directives<const D: usize>(list: &[(usize, Vec<&str>)]) -> Result<Directives<
                 f.validate(D).map_err(|e| err(line, e.to_string()))?;
                 gravity = Some((line, f));
             }
+            Some("shear") => {
+                once(&mut seen_shear, "shear")?;
+                let (rate, offset) = match &w[1..] {
+                    [rate] => (number(line, rate, "RATE")?, 0.0),
+                    [rate, offset] => (number(line, rate, "RATE")?, number(line, offset, "OFFSET")?),
+                    _ => return Err(err(line, "expected 'shear RATE [OFFSET]'")),
+                };
+                shear = Some((line, Shear { rate, offset }));
+            }
             Some("restitution") => {
                 let (_, r) = restitution.get_or_insert_with(|| (line, Restitution::default()));
                 let part = crate::restitution::parse(&w[1..], r)
@@ -473,7 +526,7 @@ fn directives<const D: usize>(list: &[(usize, Vec<&str>)]) -> Result<Directives<
             Some(other) => {
                 return Err(err(
                     line,
-                    format!("unknown edmd directive '{other}' (dim, box, boundary, barrier, time, potential, reaction, restitution, gravity)"),
+                    format!("unknown edmd directive '{other}' (dim, box, boundary, barrier, time, potential, reaction, restitution, gravity, shear)"),
                 ))
             }
             None => return Err(err(line, "empty edmd directive")),
@@ -487,6 +540,7 @@ fn directives<const D: usize>(list: &[(usize, Vec<&str>)]) -> Result<Directives<
         reactions,
         restitution,
         gravity,
+        shear,
     })
 }
 
@@ -680,6 +734,7 @@ pub fn write_with<const D: usize>(
             reactions: &[],
             restitution: None,
             gravity: None,
+            shear: None,
         },
         order,
         time,
@@ -758,6 +813,9 @@ pub fn write_full<const D: usize>(
             ["x", "y", "z"][f.axis],
             exact(f.g)
         )?;
+    }
+    if let Some(s) = interactions.shear {
+        writeln!(out, "# edmd shear {} {}", exact(s.rate), exact(s.offset))?;
     }
     for l in interactions
         .restitution
@@ -864,6 +922,7 @@ mod tests {
             reactions: &s.reactions,
             restitution: s.restitution.as_ref(),
             gravity: s.gravity,
+            shear: s.shear,
         };
         write_full(
             &mut out,
@@ -1313,6 +1372,7 @@ mod tests {
             reactions: &s.reactions,
             restitution: s.restitution.as_ref(),
             gravity: s.gravity,
+            shear: s.shear,
         };
         write_full(
             &mut out,
@@ -1356,6 +1416,127 @@ mod tests {
         }
     }
 
+    /// `# edmd shear` is read (offset 0 by default) and written back with its offset, at most
+    /// once, with periodic x and y, and not beside a field, a potential or barriers; every
+    /// refusal names its line.
+    #[test]
+    fn shear_is_read_and_written_back() {
+        let text =
+            "1\n# edmd box 4 4\n# edmd boundary periodic\n# edmd shear -0.25\n1 1 0 0 .5 1 0 0 0\n";
+        let s = parse(text, ColumnOrder::default()).unwrap();
+        assert_eq!(s.shear, Some(Shear::new(-0.25)));
+        let text = text.replace("-0.25", "0.1 3.9");
+        let s = parse(&text, ColumnOrder::default()).unwrap();
+        let want = Shear {
+            rate: 0.1,
+            offset: 3.9,
+        };
+        assert_eq!(s.shear, Some(want));
+        let mut out = Vec::new();
+        let interactions = Interactions {
+            shear: s.shear,
+            ..Interactions::HARD
+        };
+        write_full(
+            &mut out,
+            &s.discs,
+            &s.sim_box,
+            &[],
+            interactions,
+            ColumnOrder::default(),
+            2.5,
+        )
+        .unwrap();
+        let written = std::str::from_utf8(&out).unwrap();
+        assert!(written.contains("# edmd shear 0.1 3.9\n"), "{written}");
+        let back = parse(written, ColumnOrder::default()).unwrap();
+        assert_eq!(back.shear, s.shear);
+        assert_eq!(back.time, 2.5);
+        let shear3 = "1\n# edmd dim 3\n# edmd boundary periodic periodic walls\n# edmd shear 1 0.5\n.5 .5 .5 0 0 0 .1 1 0 0 0\n";
+        let s3 = parse_in::<3>(shear3, ColumnOrder::default()).unwrap();
+        assert_eq!(s3.shear.map(|s| s.offset), Some(0.5));
+        for (bad, want) in [
+            (
+                "# edmd shear 1\n# edmd shear 2\n",
+                "line 4: a second '# edmd shear' line (the first is line 3)",
+            ),
+            ("# edmd shear\n", "line 3: expected 'shear RATE [OFFSET]'"),
+            (
+                "# edmd shear 1 0 0\n",
+                "line 3: expected 'shear RATE [OFFSET]'",
+            ),
+            (
+                "# edmd shear fast\n",
+                "line 3: RATE is not a number: 'fast'",
+            ),
+            ("# edmd shear inf\n", "line 3: RATE is not finite"),
+            ("# edmd shear 1 nan\n", "line 3: OFFSET is not finite"),
+            (
+                "# edmd shear 1 -0.5\n",
+                "line 3: shear: the offset must be in [0, L_x) = [0, 4)",
+            ),
+            (
+                "# edmd shear 1 4\n",
+                "line 3: shear: the offset must be in [0, L_x)",
+            ),
+            (
+                "# edmd shear 1\n# edmd potential 0 0 1.5 -1\n",
+                "line 3: shear does not go with a stepped potential (line 4)",
+            ),
+            (
+                "# edmd shear 1\n# edmd barrier x 2\n",
+                "line 3: shear does not go with barriers",
+            ),
+        ] {
+            let text =
+                format!("1\n# edmd box 4 4\n{bad}# edmd boundary periodic\n1 1 0 0 .1 1 0 0 0\n");
+            let e = parse(&text, ColumnOrder::default())
+                .unwrap_err()
+                .to_string();
+            assert!(e.contains(want), "{e}");
+        }
+        for (boundary, want) in [
+            (
+                "periodic walls",
+                "line 2: shear: Lees-Edwards boundaries need periodic x and y",
+            ),
+            (
+                "walls periodic",
+                "line 2: shear: Lees-Edwards boundaries need periodic x and y",
+            ),
+            (
+                "walls",
+                "line 2: shear: Lees-Edwards boundaries need periodic x and y",
+            ),
+        ] {
+            let text =
+                format!("1\n# edmd shear 1\n# edmd boundary {boundary}\n.5 .5 0 0 .1 1 0 0 0\n");
+            let e = parse(&text, ColumnOrder::default())
+                .unwrap_err()
+                .to_string();
+            assert!(e.contains(want), "{e}");
+        }
+        let text = "1\n# edmd box 4 4\n# edmd boundary periodic walls\n# edmd gravity y -1\n# edmd shear 1\n1 1 0 0 .5 1 0 0 0\n";
+        let e = parse(text, ColumnOrder::default()).unwrap_err().to_string();
+        assert!(
+            e.contains("line 5: shear does not go with gravity (line 4)"),
+            "{e}"
+        );
+        // The course format has no place for it.
+        let mut out = Vec::new();
+        let e = crate::write_full(
+            &mut out,
+            &s.discs,
+            &s.sim_box,
+            &[],
+            interactions,
+            Format::Course,
+            0.0,
+        )
+        .unwrap_err();
+        assert!(e.to_string().contains("no place for shear"), "{e}");
+    }
+
     /// `# edmd gravity` is read and written back, at most once, along an axis with walls, and
     /// inelastic collisions beside it need the TC model.
     #[test]
@@ -1369,6 +1550,7 @@ mod tests {
             reactions: &s.reactions,
             restitution: None,
             gravity: s.gravity,
+            shear: s.shear,
         };
         write_full(
             &mut out,

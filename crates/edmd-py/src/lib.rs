@@ -15,6 +15,7 @@ mod pack;
 mod potential;
 mod reactions;
 mod restitution;
+mod shear;
 mod state;
 
 use std::io::Write;
@@ -325,7 +326,10 @@ fn extension(path: &Path) -> Option<String> {
 /// file's `# edmd restitution` lines), read back as `restitution` and `dissipated`; and a
 /// uniform field, gravity along an axis with walls (`set_gravity`, `from_arrays(gravity=...)`,
 /// `edmd.gen.fluid(gravity=...)`, or a file's `# edmd gravity` line), read back as `gravity`
-/// and `field_energy`.
+/// and `field_energy`; and Lees-Edwards boundaries, simple shear flow along x with its
+/// gradient along y (`set_shear`, `from_arrays(shear=...)`, `edmd.gen.fluid(shear=...)`, or a
+/// file's `# edmd shear` line), read back as `shear`, `peculiar_velocities` and
+/// `peculiar_kinetic_energy`.
 ///
 /// Threads: a simulation is used by one thread at a time. While `run` is under way in one
 /// thread, every use of the simulation from another thread (reading `positions`, pickling,
@@ -542,6 +546,11 @@ impl PySimulation {
     ///         `{"axis": k, "g": g}` that `Simulation.gravity` gives. The axis must have walls.
     ///         Needs binary collisions and no stepped potential; inelastic collisions in a
     ///         field need the TC model (a restitution with "tc" > 0).
+    ///     shear: Lees-Edwards boundaries (None: none), as `set_shear` takes them: the shear
+    ///         rate (from an offset of 0), or the tuple `(rate, offset)` that
+    ///         `Simulation.shear` gives. The velocities are taken as given (add
+    ///         `rate * (y - L_y / 2)` to the x velocities to start on the streaming profile).
+    ///         Needs periodic x and y, binary collisions, no stepped potential and no field.
     ///
     /// Raises:
     ///     TypeError: an argument that is not numbers (strings, complex numbers, booleans,
@@ -552,7 +561,7 @@ impl PySimulation {
     ///         species no disc has (the message starts "potential:"), reaction rules that
     ///         cannot be (the message starts "reactions:"), restitution that cannot be (the
     ///         message starts "restitution:"), a field that cannot be (the message starts
-    ///         "gravity").
+    ///         "gravity"), shear that cannot be (the message starts "shear").
     ///
     /// >>> import numpy as np
     /// >>> sim = edmd.Simulation.from_arrays([[2.0, 5.0], [8.0, 5.0]], [[1.0, 0.0], [-1.0, 0.0]],
@@ -570,8 +579,10 @@ impl PySimulation {
     /// ...                                    radii=1.0, box=(10.0, 10.0), restitution=0.5)
     /// >>> drop = edmd.Simulation.from_arrays([[5.0, 8.0]], [[0.0, 0.0]], radii=0.5,
     /// ...                                    box=(10.0, 10.0), boundary="walls", gravity=-1.0)
+    /// >>> flow = edmd.Simulation.from_arrays([[5.0, 2.0], [5.0, 8.0]], [[-0.3, 0.0], [0.3, 0.0]],
+    /// ...                                    radii=0.5, box=(10.0, 10.0), shear=0.1)
     #[staticmethod]
-    #[pyo3(signature = (positions, velocities, radii, masses=None, r#box=None, boundary=None, species=None, rule=None, multi=None, allow_overlaps=None, potential=None, reactions=None, restitution=None, gravity=None))]
+    #[pyo3(signature = (positions, velocities, radii, masses=None, r#box=None, boundary=None, species=None, rule=None, multi=None, allow_overlaps=None, potential=None, reactions=None, restitution=None, gravity=None, shear=None))]
     #[allow(clippy::too_many_arguments)]
     fn from_arrays(
         positions: &Bound<'_, PyAny>,
@@ -588,6 +599,7 @@ impl PySimulation {
         reactions: Option<&Bound<'_, PyAny>>,
         restitution: Option<&Bound<'_, PyAny>>,
         gravity: Option<&Bound<'_, PyAny>>,
+        shear: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<Self> {
         let input = arrays::Input::new(
             positions, velocities, radii, masses, r#box, boundary, species, potential,
@@ -611,25 +623,31 @@ impl PySimulation {
             Some(g) => gravity::parse(g)?,
             None => None,
         };
-        /// The simulation of the arrays, with the rules, the field and the restitution (in
-        /// the order `edmd run` sets a file's).
+        let sliding = match shear {
+            Some(s) => shear::parse(s)?,
+            None => None,
+        };
+        /// The simulation of the arrays, with the rules, the field, the restitution and the
+        /// shear (in the order `edmd run` sets a file's).
         fn made<const D: usize>(
             input: &arrays::Input,
             opts: Options,
             reactions: Option<edmd_core::Reactions>,
             field: Option<gravity::Field>,
             restitution: Option<edmd_core::Restitution>,
+            sliding: Option<shear::Sliding>,
         ) -> PyResult<State<D>> {
-            let mut sim = input.build::<D>(opts)?;
+            let mut sim = shear::build::<D>(input, opts, sliding)?;
             reactions::apply(&mut sim, reactions, "reactions")?;
             gravity::apply(&mut sim, field)?;
             restitution::apply(&mut sim, restitution, "restitution")?;
+            shear::apply(&mut sim, sliding)?;
             Ok(State::new(sim, Format::Princeton(ColumnOrder::RadiusMass)))
         }
         guarded("from_arrays", || {
             let inner = match input.dim {
-                3 => Inner::Three(made(&input, opts, reactions, field, restitution)?),
-                _ => Inner::Two(made(&input, opts, reactions, field, restitution)?),
+                3 => Inner::Three(made(&input, opts, reactions, field, restitution, sliding)?),
+                _ => Inner::Two(made(&input, opts, reactions, field, restitution, sliding)?),
             };
             Ok(PySimulation { inner })
         })
@@ -821,7 +839,9 @@ impl PySimulation {
     /// k, reactions per unit volume and time = k n_A n_B, k n_A^2 / 2 for like reactants, with
     /// its block error), "viscosity" and "conductivity" (the shear viscosity and the thermal
     /// conductivity by the Einstein-Helfand route, with block errors and Enskog's values;
-    /// periodic boxes only, and equal hard particles for the conductivity). Events are watched
+    /// periodic boxes only, and equal hard particles for the conductivity), "shear-stress"
+    /// (the shear stress P_xy of a sheared run and its viscosity -P_xy / gamma, in blocks at
+    /// the samples, with block errors; needs shear). Events are watched
     /// in Rust; samples are taken at `start + k * every`
     /// by `run(until=...)` (not by `run(events=...)`, which is not timed); `results()` gives
     /// what was measured. Attaching again starts afresh. Pickles and checkpoints keep the
@@ -1493,6 +1513,78 @@ impl PySimulation {
         Ok(each!(&get(slf)?.inner, s => s.sim.field_energy()))
     }
 
+    /// Lees-Edwards boundaries: None (plain boundaries), or the tuple (rate, offset): the
+    /// shear rate du_x/dy and the images' offset along x now, in [0, L_x), as `set_shear` and
+    /// `from_arrays(shear=...)` take it (`sim.set_shear(*sim.shear)` changes nothing).
+    #[getter]
+    fn shear<'py>(slf: &Bound<'py, Self>) -> PyResult<Option<Bound<'py, PyTuple>>> {
+        let this = get(slf)?;
+        each!(&this.inner, s => s.sim.shear().map(|x| shear::to_tuple(slf.py(), x))).transpose()
+    }
+
+    /// Shears the system from now on with Lees-Edwards boundaries, as a file's `# edmd shear`
+    /// line does: the images across y slide along x at `rate * L_y` (those above shifted by
+    /// `offset`), so that the streaming velocity is `rate * (y - L_y / 2)` along x. A disc
+    /// leaving through the top comes back through the bottom with its x shifted by the offset
+    /// and its x velocity by `-rate * L_y`. The velocities now are kept: to start in steady
+    /// flow add `rate * (y - L_y / 2)` to each x velocity (`edmd.gen.fluid(shear=...)` does).
+    /// The thermostat (`set_thermostat`) then draws about the streaming profile, and
+    /// `peculiar_velocities`, `peculiar_kinetic_energy` are taken relative to it. Pickles and
+    /// checkpoints carry the shear and its offset, so a restored simulation continues bit for
+    /// bit.
+    ///
+    /// Args:
+    ///     rate: the shear rate, a finite number (negative: the flow the other way; 0: the
+    ///         plain periodic run); None removes the shear; or the tuple (rate, offset) that
+    ///         `Simulation.shear` gives (then no `offset` beside it).
+    ///     offset: the images' offset along x now, in [0, L_x); when None, the current offset
+    ///         if sheared already, else 0.
+    ///
+    /// Raises:
+    ///     TypeError, ValueError: a bad argument, named in the message ("rate: ...",
+    ///         "offset: ..."): not a finite number, an offset outside [0, L_x); shear with
+    ///         walls on x or y, a stepped potential, a field, barriers or multi-disc
+    ///         collisions, or at an offset where the slid images overlap discs. A refused call
+    ///         changes nothing.
+    ///
+    /// >>> sim = edmd.gen.fluid(n=400, packing=0.3, seed=1)
+    /// >>> sim.set_shear(0.1)
+    /// >>> sim.shear
+    /// (0.1, 0.0)
+    /// >>> sim.set_shear(None)
+    #[pyo3(signature = (rate, offset=None))]
+    fn set_shear(
+        slf: &Bound<'_, Self>,
+        rate: &Bound<'_, PyAny>,
+        offset: Option<&Bound<'_, PyAny>>,
+    ) -> PyResult<()> {
+        let sliding = shear::from_arguments(rate, offset)?;
+        let mut this = get_mut(slf)?;
+        guarded(
+            "set_shear",
+            || each!(&mut this.inner, s => shear::apply(&mut s.sim, sliding)),
+        )
+    }
+
+    /// Velocities relative to the streaming profile, `v - (rate * (y - L_y / 2), 0)`: (N, dim)
+    /// float64; the velocities themselves without shear.
+    #[getter]
+    fn peculiar_velocities<'py>(slf: &Bound<'py, Self>) -> PyResult<Bound<'py, PyAny>> {
+        let this = get(slf)?;
+        guarded(
+            "peculiar_velocities",
+            || each!(&this.inner, s => arrays::matrix(slf.py(), &s.sim, |i| s.sim.peculiar_velocity(i).0)),
+        )
+    }
+
+    /// Kinetic energy of the velocities relative to the streaming profile,
+    /// sum m |v - u(y)|^2 / 2 (`kinetic_energy` without shear): the temperature of a sheared
+    /// fluid is 2 * peculiar_kinetic_energy / (dim * n).
+    #[getter]
+    fn peculiar_kinetic_energy(slf: &Bound<'_, Self>) -> PyResult<f64> {
+        Ok(each!(&get(slf)?.inner, s => s.sim.peculiar_kinetic_energy()))
+    }
+
     /// How many discs are of each species now: an int64 array indexed by species, from 0 to
     /// the largest species a disc is or a rule names (so a product not made yet counts 0).
     #[getter]
@@ -1634,6 +1726,8 @@ fn beyond_hard_cores<const D: usize>(sim: &Simulation<D>) -> Option<&'static str
         Some("the restitution")
     } else if sim.gravity().is_some() {
         Some("the field")
+    } else if sim.shear().is_some() {
+        Some("the shear")
     } else {
         None
     }
@@ -1705,6 +1799,7 @@ fn render(inner: &Inner, kind: &str, path: &Path) -> PyResult<Vec<u8>> {
                         reactions: s.sim.reactions().map_or(&[], |r| &r.rules),
                         restitution: s.sim.restitution(),
                         gravity: s.sim.gravity(),
+                        shear: s.sim.shear(),
                     };
                     edmd_io::write_full(&mut w, &discs, s.sim.sim_box(), s.sim.barriers(), interactions, fmt, s.sim.time())
                         .map_err(io_error)?
@@ -1833,7 +1928,7 @@ fn _restore(data: &Bound<'_, PyAny>) -> PyResult<PySimulation> {
 /// Makes a system as `edmd gen KIND` does (same checks, messages and seeds) and returns it as
 /// a simulation. Called by the functions in `edmd.gen`.
 #[pyfunction]
-#[pyo3(signature = (kind, *, dim=2, seed=1, course=false, n=None, radius=None, speed=None, mass=None, kt=None, packing=None, boundary=None, angle=None, impact=None, region=None, big_radius=None, big_mass=None, size_ratio=None, fraction_large=None, spread=None, well=None, shoulder=None, depth=None, rule="elastic", multi=false, species=None, reactions=None, restitution=None, gravity=None))]
+#[pyo3(signature = (kind, *, dim=2, seed=1, course=false, n=None, radius=None, speed=None, mass=None, kt=None, packing=None, boundary=None, angle=None, impact=None, region=None, big_radius=None, big_mass=None, size_ratio=None, fraction_large=None, spread=None, well=None, shoulder=None, depth=None, rule="elastic", multi=false, species=None, reactions=None, restitution=None, gravity=None, shear=None))]
 #[allow(clippy::too_many_arguments)]
 fn _generate(
     kind: &str,
@@ -1864,6 +1959,7 @@ fn _generate(
     reactions: Option<&Bound<'_, PyAny>>,
     restitution: Option<&Bound<'_, PyAny>>,
     gravity: Option<f64>,
+    shear: Option<f64>,
 ) -> PyResult<PySimulation> {
     use edmd::gen::{make_with, ChemistryArgs, GenArgs, Generated};
     let dim =
@@ -1924,6 +2020,7 @@ fn _generate(
         shoulder,
         depth,
         gravity,
+        shear,
     };
     // `edmd gen`'s messages, with the Python argument names instead of its flags.
     let message = |e: anyhow::Error| {
@@ -1950,6 +2047,7 @@ fn _generate(
             "well",
             "depth",
             "gravity",
+            "shear",
             "course",
             "seed",
             "species",
@@ -1991,9 +2089,10 @@ fn _generate(
         }
         .map_err(|e| value_error(format!("gen {kind}: {e}")))
     }
-    /// [`build`] with the rules, the field and the restitution, as `edmd run` sets those of
-    /// the file `edmd gen` writes (in that order: restitution in a field is refused without
-    /// the TC model).
+    /// [`build`] with the rules, the field, the restitution and the shear, as `edmd run` sets
+    /// those of the file `edmd gen` writes (in that order: restitution in a field is refused
+    /// without the TC model).
+    #[allow(clippy::too_many_arguments)]
     fn reactive<const D: usize>(
         system: &edmd_core::System<D>,
         potential: &edmd_core::Potential,
@@ -2002,11 +2101,13 @@ fn _generate(
         reactions: Option<edmd_core::Reactions>,
         field: Option<edmd_core::Gravity>,
         restitution: Option<edmd_core::Restitution>,
+        sliding: Option<edmd_core::Shear>,
     ) -> PyResult<Simulation<D>> {
         let mut sim = build(system, potential, opts, kind)?;
         reactions::apply(&mut sim, reactions, "reactions")?;
         gravity::apply(&mut sim, field.map(|f| gravity::Field::of(f, "gravity")))?;
         restitution::apply(&mut sim, restitution, "restitution")?;
+        shear::apply(&mut sim, sliding.map(|s| shear::Sliding::of(s, "shear")))?;
         Ok(sim)
     }
     guarded("gen", || {
@@ -2015,19 +2116,20 @@ fn _generate(
         let (generated, _) = make_with(&args, &chemistry).map_err(message)?;
         let potential = args.potential_of(&generated).map_err(message)?;
         let field = edmd::gen::gravity_of(&args, &generated).map_err(message)?;
+        let sliding = edmd::gen::shear_of(&args, &generated).map_err(message)?;
         match generated {
             Generated::Two(_, Format::Course) if !potential.is_hard() => Err(value_error(format!(
                 "gen {kind}: the course format has no place for a potential (course with well or shoulder)"
             ))),
             Generated::Two(system, format) => Ok(PySimulation {
                 inner: Inner::Two(State::new(
-                    reactive(&system, &potential, opts, kind, reactions, field, restitution)?,
+                    reactive(&system, &potential, opts, kind, reactions, field, restitution, sliding)?,
                     format,
                 )),
             }),
             Generated::Three(system) => Ok(PySimulation {
                 inner: Inner::Three(State::new(
-                    reactive(&system, &potential, opts, kind, reactions, field, restitution)?,
+                    reactive(&system, &potential, opts, kind, reactions, field, restitution, sliding)?,
                     Format::Princeton(ColumnOrder::RadiusMass),
                 )),
             }),

@@ -138,6 +138,8 @@ pub fn read_extra<const D: usize>(extra: &[u8]) -> Option<(Format, Option<Measur
     // before a measurement was added ends early for today's layout and is read with its own.
     let extra = postcard::from_bytes::<CheckpointExtra<Measuring<D>>>(extra)
         .ok()
+        // Written before the shear stress was measured.
+        .or_else(|| read_extra_before::<D, crate::measure::MeasurementsBeforeShearStress<D>>(extra))
         // Written before the thermal conductivity was measured.
         .or_else(|| {
             read_extra_before::<D, crate::measure::MeasurementsBeforeConductivity<D>>(extra)
@@ -289,8 +291,10 @@ mod tests {
         assert!(m.run_to(&mut sim, 2.0).unwrap());
         let now = checkpoint_bytes(&sim, Format::Course, Some(&m)).unwrap();
         let (_, extra) = Simulation::<2>::from_checkpoint(&now).unwrap();
-        assert_eq!(extra.last(), Some(&0));
-        let before = sim.to_checkpoint(&extra[..extra.len() - 1]);
+        // `viscosity`, `conductivity` and `shear_stress`, all `None`, are the last three
+        // bytes, 0.
+        assert_eq!(extra[extra.len() - 3..], [0, 0, 0]);
+        let before = sim.to_checkpoint(&extra[..extra.len() - 3]);
         let (_, _, back) = from_checkpoint_bytes::<2>(&before).unwrap();
         let back = back.unwrap();
         assert_eq!((back.which, back.samples), (which.to_vec(), 4));
@@ -308,9 +312,10 @@ mod tests {
         assert!(m.run_to(&mut sim, 2.0).unwrap());
         let now = checkpoint_bytes(&sim, Format::Course, Some(&m)).unwrap();
         let (_, extra) = Simulation::<2>::from_checkpoint(&now).unwrap();
-        // `kinetics: None` and `viscosity: None` are the last two bytes, 0.
-        assert_eq!(extra[extra.len() - 2..], [0, 0]);
-        let before = sim.to_checkpoint(&extra[..extra.len() - 2]);
+        // `kinetics`, `viscosity`, `conductivity` and `shear_stress`, all `None`, are the last
+        // four bytes, 0.
+        assert_eq!(extra[extra.len() - 4..], [0, 0, 0, 0]);
+        let before = sim.to_checkpoint(&extra[..extra.len() - 4]);
         let (_, format, back) = from_checkpoint_bytes::<2>(&before).unwrap();
         let back = back.unwrap();
         assert_eq!(format, Format::Course);

@@ -173,6 +173,13 @@ pub struct GenArgs {
     /// others keep --boundary (for fluid and mixture, periodic unless walls are asked for).
     #[arg(long, value_name = "G", allow_hyphen_values = true)]
     pub gravity: Option<f64>,
+    /// Shear the fluid at RATE with Lees-Edwards boundaries (fluid and mixture, periodic
+    /// boxes), written as '# edmd shear RATE 0': the images across y slide along x at RATE
+    /// times the box's height, and the velocities start on the streaming profile
+    /// RATE (y - Ly/2) along x, so the run starts in steady flow. Negative: the flow the
+    /// other way.
+    #[arg(long, value_name = "RATE", allow_hyphen_values = true)]
+    pub shear: Option<f64>,
 }
 
 impl GenArgs {
@@ -248,6 +255,7 @@ pub fn run(cmd: &GenCommand) -> Result<()> {
     let (generated, rules) = make_with(args, &cmd.chemistry)?;
     let potential = args.potential_of(&generated)?;
     let gravity = gravity_of(args, &generated)?;
+    let shear = shear_of(args, &generated)?;
     if let (Some(g), Some(r)) = (gravity, &restitution) {
         if r.tc <= 0.0 && !r.is_elastic() {
             return user_error(format!(
@@ -267,6 +275,7 @@ pub fn run(cmd: &GenCommand) -> Result<()> {
         reactions: &rules,
         restitution: restitution.as_ref(),
         gravity,
+        shear,
     };
     match generated {
         Generated::Two(system, format) => write_system(&system, interactions, format, args),
@@ -435,7 +444,85 @@ fn assign_species<const D: usize>(discs: &mut [edmd_core::Disc<D>], fractions: &
 
 /// Validates the options and generates the system `edmd gen` would write (`args.output` is not
 /// used). The Python package calls this too, so both make the same system from the same seed.
+/// Under `--shear` the velocities are on the streaming profile ([`shear_of`] gives the shear).
 pub fn make(args: &GenArgs) -> Result<Generated> {
+    let generated = make_in_field(args)?;
+    let Some(shear) = shear_of(args, &generated)? else {
+        return Ok(generated);
+    };
+    Ok(match generated {
+        Generated::Two(mut s, f) => {
+            on_profile(&mut s, shear.rate);
+            Generated::Two(s, f)
+        }
+        Generated::Three(mut s) => {
+            on_profile(&mut s, shear.rate);
+            Generated::Three(s)
+        }
+    })
+}
+
+/// Adds the streaming velocity `rate (y - L_y / 2)` to each disc's x velocity, so that a
+/// sheared run starts in steady flow rather than spending its first `1 / rate` building it.
+fn on_profile<const D: usize>(system: &mut edmd_core::System<D>, rate: f64) {
+    let ly = system.sim_box.lengths[1];
+    for d in &mut system.discs {
+        d.vel[0] += rate * (d.pos[1] - 0.5 * ly);
+    }
+}
+
+/// The shear `--shear` asks for, from an offset of 0, checked against the other options and
+/// the box of `generated` (periodic x and y); `None` without it.
+pub fn shear_of(args: &GenArgs, generated: &Generated) -> Result<Option<edmd_core::Shear>> {
+    let Some(rate) = args.shear else {
+        return Ok(None);
+    };
+    let name = &args.kind;
+    if args.course {
+        return user_error(format!(
+            "gen {name}: the course format has no place for shear (--course with --shear)"
+        ));
+    }
+    if args.well.is_some() || args.shoulder.is_some() {
+        return user_error(format!(
+            "gen {name}: --shear does not go with --well or --shoulder"
+        ));
+    }
+    if args.gravity.is_some() {
+        return user_error(format!("gen {name}: --shear does not go with --gravity"));
+    }
+    if !matches!(name.as_str(), "fluid" | "mixture") {
+        return user_error(format!(
+            "gen {name}: --shear shears fluids and mixtures only (gen fluid, gen mixture)"
+        ));
+    }
+    let (dim, lx, periodic) = match generated {
+        Generated::Two(s, _) => (
+            2,
+            s.sim_box.lengths[0],
+            s.sim_box.is_periodic(0) && s.sim_box.is_periodic(1),
+        ),
+        Generated::Three(s) => (
+            3,
+            s.sim_box.lengths[0],
+            s.sim_box.is_periodic(0) && s.sim_box.is_periodic(1),
+        ),
+    };
+    if !periodic {
+        return user_error(format!(
+            "gen {name}: --shear needs a periodic box (Lees-Edwards boundaries slide the images across y), not --boundary walls"
+        ));
+    }
+    let shear = edmd_core::Shear::new(rate);
+    shear
+        .validate(dim, lx)
+        .or_else(|e| user_error(format!("gen {name}: --shear {rate}: {e}")))?;
+    Ok(Some(shear))
+}
+
+/// [`make`] before the velocities are put on the streaming profile: the system in its box,
+/// with a field's walls.
+fn make_in_field(args: &GenArgs) -> Result<Generated> {
     let generated = make_in_box(args)?;
     if args.gravity.is_none() {
         return Ok(generated);

@@ -3,7 +3,7 @@
 use std::io::Read;
 
 use anyhow::Result;
-use edmd_core::{Error as EngineError, Options, Simulation};
+use edmd_core::{Error as EngineError, Options, OverlapPolicy, Simulation};
 use edmd_io::princeton::ColumnOrder;
 use edmd_io::{AnyLoaded, Format, LoadedSystem};
 
@@ -224,6 +224,7 @@ pub fn build_seeded<const D: usize>(
     set_reactions(path, sys, &mut sim, seed)?;
     set_gravity(path, sys, &mut sim)?;
     set_restitution(path, sys, &mut sim)?;
+    set_shear(path, sys, &mut sim)?;
     Ok(sim)
 }
 
@@ -239,6 +240,7 @@ pub fn build_with_hint<const D: usize>(
     set_reactions(path, sys, &mut sim, DEFAULT_SEED)?;
     set_gravity(path, sys, &mut sim)?;
     set_restitution(path, sys, &mut sim)?;
+    set_shear(path, sys, &mut sim)?;
     Ok(sim)
 }
 
@@ -298,6 +300,21 @@ pub fn set_gravity<const D: usize>(
         .or_else(|e| user_error(format!("{path}: {e} (the file's '# edmd gravity' line)")))
 }
 
+/// Shears `sim`, built from `sys`, with the file's Lees-Edwards boundaries from its offset at
+/// the file's time (nothing without them). Shear with multi-disc collisions, or at an offset
+/// where the slid images overlap discs, is refused in one line naming the file.
+pub fn set_shear<const D: usize>(
+    path: &str,
+    sys: &LoadedSystem<D>,
+    sim: &mut Simulation<D>,
+) -> Result<()> {
+    if sys.shear.is_none() {
+        return Ok(());
+    }
+    sim.set_shear(sys.shear)
+        .or_else(|e| user_error(format!("{path}: {e} (the file's '# edmd shear' line)")))
+}
+
 /// The simulation of the discs, box, barriers and potential of `sys`, without its reactions.
 fn build_hard<const D: usize>(
     path: &str,
@@ -316,17 +333,34 @@ fn build_hard<const D: usize>(
             "particles refuses it; 'edmd run --rule swap --allow-overlaps' moves them in",
         )
     };
-    let built = if sys.potential.is_hard() {
-        Simulation::with_barriers_at(&sys.discs, sys.sim_box, &sys.barriers, options, sys.time)
-    } else {
-        Simulation::with_potential_at(
-            &sys.discs,
-            sys.sim_box,
-            &sys.barriers,
-            &sys.potential,
-            options,
-            sys.time,
-        )
+    let make = |options| {
+        if sys.potential.is_hard() {
+            Simulation::with_barriers_at(&sys.discs, sys.sim_box, &sys.barriers, options, sys.time)
+        } else {
+            Simulation::with_potential_at(
+                &sys.discs,
+                sys.sim_box,
+                &sys.barriers,
+                &sys.potential,
+                options,
+                sys.time,
+            )
+        }
+    };
+    let built = match make(options) {
+        // The engine checks the discs against the plain periodic images, which a sheared
+        // file's slid images replace: a state `edmd run` wrote at an offset can touch a plain
+        // image across y. Its overlaps are those `set_shear` checks, at the file's offset.
+        Err(EngineError::Overlap { .. })
+            if sys.shear.is_some_and(|s| s.offset != 0.0)
+                && options.overlaps == OverlapPolicy::Refuse =>
+        {
+            make(Options {
+                overlaps: OverlapPolicy::Allow,
+                ..options
+            })
+        }
+        other => other,
     };
     built.or_else(|e| {
         user_error(refusal_at_line(

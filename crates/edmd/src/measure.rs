@@ -5,6 +5,7 @@ use std::path::{Path, PathBuf};
 
 use anyhow::Result;
 use clap::ValueEnum;
+use edmd_core::measure::shear_stress::ShearStress;
 use edmd_core::measure::{
     kinetic_temperature, Collisions, Conductivity, Diffusion, Energy, Kinetics, Pressure, Rdf,
     SpeciesHalves, Speeds, Temperature, Viscosity,
@@ -49,6 +50,9 @@ pub enum Measure {
     /// windows up to 20 mean collision times, with its block error and Enskog's value (periodic
     /// boxes of equal hard particles only).
     Conductivity,
+    /// The shear stress P_xy of a sheared run (Lees-Edwards boundaries) and its viscosity
+    /// -P_xy / gamma, exact time integrals in blocks at the sample times, with block errors.
+    ShearStress,
 }
 
 impl Measure {
@@ -70,6 +74,7 @@ impl Measure {
             Measure::Kinetics => &["kinetics.csv"],
             Measure::Viscosity => &["viscosity.csv"],
             Measure::Conductivity => &["conductivity.csv"],
+            Measure::ShearStress => &["shear_stress.csv"],
         }
     }
 }
@@ -89,6 +94,44 @@ pub struct Measurements<const D: usize = 2> {
     kinetics: Option<Kinetics>,
     viscosity: Option<Viscosity>,
     conductivity: Option<Conductivity>,
+    shear_stress: Option<ShearStress>,
+}
+
+/// [`Measurements`] as checkpoints kept them before `shear_stress` was measured: read back,
+/// they go on as measurements without it.
+#[derive(Deserialize)]
+#[serde(bound = "")]
+pub(crate) struct MeasurementsBeforeShearStress<const D: usize> {
+    temperature: Option<Temperature>,
+    pressure: Option<Pressure>,
+    collisions: Option<Collisions>,
+    speeds: Option<Speeds>,
+    msd: Option<Diffusion<D>>,
+    species: Option<SpeciesHalves>,
+    energy: Option<Energy>,
+    rdf: Option<Rdf>,
+    kinetics: Option<Kinetics>,
+    viscosity: Option<Viscosity>,
+    conductivity: Option<Conductivity>,
+}
+
+impl<const D: usize> From<MeasurementsBeforeShearStress<D>> for Measurements<D> {
+    fn from(m: MeasurementsBeforeShearStress<D>) -> Self {
+        Measurements {
+            temperature: m.temperature,
+            pressure: m.pressure,
+            collisions: m.collisions,
+            speeds: m.speeds,
+            msd: m.msd,
+            species: m.species,
+            energy: m.energy,
+            rdf: m.rdf,
+            kinetics: m.kinetics,
+            viscosity: m.viscosity,
+            conductivity: m.conductivity,
+            shear_stress: None,
+        }
+    }
 }
 
 /// [`Measurements`] as checkpoints kept them before `conductivity` was measured: read back,
@@ -122,6 +165,7 @@ impl<const D: usize> From<MeasurementsBeforeConductivity<D>> for Measurements<D>
             kinetics: m.kinetics,
             viscosity: m.viscosity,
             conductivity: None,
+            shear_stress: None,
         }
     }
 }
@@ -156,6 +200,7 @@ impl<const D: usize> From<MeasurementsBeforeViscosity<D>> for Measurements<D> {
             kinetics: m.kinetics,
             viscosity: None,
             conductivity: None,
+            shear_stress: None,
         }
     }
 }
@@ -189,6 +234,7 @@ impl<const D: usize> From<MeasurementsBeforeKinetics<D>> for Measurements<D> {
             kinetics: None,
             viscosity: None,
             conductivity: None,
+            shear_stress: None,
         }
     }
 }
@@ -220,6 +266,7 @@ impl<const D: usize> From<MeasurementsBefore<D>> for Measurements<D> {
             kinetics: None,
             viscosity: None,
             conductivity: None,
+            shear_stress: None,
         }
     }
 }
@@ -263,12 +310,15 @@ impl<const D: usize> Measurements<D> {
             kinetics: has(Measure::Kinetics).then(|| Kinetics::new(sim)),
             viscosity: has(Measure::Viscosity).then(|| Viscosity::for_fluid(sim)),
             conductivity: has(Measure::Conductivity).then(|| Conductivity::for_fluid(sim)),
+            shear_stress: has(Measure::ShearStress)
+                .then(|| ShearStress::new(sim))
+                .flatten(),
         }
     }
 
     /// Refuses measurements that cannot be taken on `sim` (the viscosity in a box with walls,
-    /// the thermal conductivity of a mixture), with a one-line message; the run's front door
-    /// calls it before [`Self::new`].
+    /// the thermal conductivity of a mixture, the shear stress without shear), with a one-line
+    /// message; the run's front door calls it before [`Self::new`].
     pub fn check(sim: &Simulation<D>, which: &[Measure]) -> Result<()> {
         if which.contains(&Measure::Viscosity) {
             if let Some(why) = edmd_core::measure::viscosity::unsupported(sim) {
@@ -279,6 +329,12 @@ impl<const D: usize> Measurements<D> {
             if let Some(why) = edmd_core::measure::conductivity::unsupported(sim) {
                 return crate::user_error(format!("--measure conductivity: {why}"));
             }
+        }
+        if which.contains(&Measure::ShearStress) && ShearStress::new(sim).is_none() {
+            return crate::user_error(
+                "--measure shear-stress: needs shear (Lees-Edwards boundaries, '# edmd shear RATE' \
+                 or edmd gen --shear)",
+            );
         }
         Ok(())
     }
@@ -292,6 +348,7 @@ impl<const D: usize> Measurements<D> {
             && self.kinetics.as_ref().is_none_or(|m| kinetics_fits(m, sim))
             && self.viscosity.as_ref().is_none_or(|m| m.fits(sim))
             && self.conductivity.as_ref().is_none_or(|m| m.fits(sim))
+            && self.shear_stress.as_ref().is_none_or(|m| m.fits(sim))
     }
 
     /// Takes a sample of every measurement at the simulation's current time.
@@ -327,6 +384,9 @@ impl<const D: usize> Measurements<D> {
             m.sample(sim);
         }
         if let Some(m) = &mut self.conductivity {
+            m.sample(sim);
+        }
+        if let Some(m) = &mut self.shear_stress {
             m.sample(sim);
         }
     }
@@ -610,6 +670,38 @@ impl<const D: usize> Measurements<D> {
                        "kT": num(s.kt), "elapsed": s.elapsed, "packing": s.packing}),
             );
         }
+        if let Some(m) = &self.shear_stress {
+            csv(
+                "shear_stress.csv",
+                &["start", "end", "kinetic", "collisional", "pxy", "kt", "eta"],
+                m.blocks()
+                    .iter()
+                    .map(|b| {
+                        let pxy = b.kinetic + b.collisional;
+                        vec![b.start, b.end, b.kinetic, b.collisional, pxy, b.kt, b.eta]
+                    })
+                    .collect(),
+            );
+            // The reduced rate is taken with the mean diameter and mass.
+            let n = sim.len().max(1) as f64;
+            let sigma = (0..sim.len()).map(|i| 2.0 * sim.radius(i)).sum::<f64>() / n;
+            let mass = (0..sim.len()).map(|i| sim.mass(i)).sum::<f64>() / n;
+            let num = |x: f64| if x.is_finite() { json!(x) } else { Value::Null };
+            // Before the first block closes there is no summary: nulls, and no blocks.
+            let j = match m.summary(sigma, mass) {
+                Some(s) => json!({"eta": num(s.eta.value), "eta_error": num(s.eta.error),
+                       "pxy": num(s.pxy.value), "pxy_error": num(s.pxy.error),
+                       "kt": num(s.kt.value), "kt_error": num(s.kt.error),
+                       "kinetic": num(s.kinetic), "collisional": num(s.collisional),
+                       "rate": s.rate, "reduced_rate": num(s.reduced_rate),
+                       "blocks": s.eta.blocks, "elapsed": s.elapsed}),
+                None => json!({"eta": null, "eta_error": null, "pxy": null, "pxy_error": null,
+                       "kt": null, "kt_error": null, "kinetic": null, "collisional": null,
+                       "rate": sim.shear().map(|s| s.rate), "reduced_rate": null,
+                       "blocks": 0, "elapsed": 0.0}),
+            };
+            out.insert("shear_stress".into(), j);
+        }
         (Value::Object(out), tables)
     }
 }
@@ -661,6 +753,9 @@ impl<const D: usize> Observer<D> for Measurements<D> {
         if let Some(m) = &mut self.conductivity {
             m.on_event(e, sim);
         }
+        if let Some(m) = &mut self.shear_stress {
+            m.on_event(e, sim);
+        }
     }
 }
 
@@ -684,9 +779,9 @@ mod tests {
         assert!(m.run_to(&mut sim, 2.0).unwrap());
         let now = checkpoint_bytes(&sim, Format::Course, Some(&m)).unwrap();
         let (_, extra) = Simulation::<3>::from_checkpoint(&now).unwrap();
-        // `conductivity: None` is the last byte, 0.
-        assert_eq!(extra.last(), Some(&0));
-        let before = sim.to_checkpoint(&extra[..extra.len() - 1]);
+        // `conductivity: None` and `shear_stress: None` are the last two bytes, 0.
+        assert_eq!(extra[extra.len() - 2..], [0, 0]);
+        let before = sim.to_checkpoint(&extra[..extra.len() - 2]);
         let (mut sim2, _, back) = from_checkpoint_bytes::<3>(&before).unwrap();
         let mut back = back.unwrap();
         assert_eq!((back.which.clone(), back.samples), (which.to_vec(), 4));
@@ -714,5 +809,89 @@ mod tests {
         let e = Measurements::check(&sim, &[Measure::Conductivity]).unwrap_err();
         assert!(e.to_string().contains("one mass and one diameter"), "{e}");
         assert!(Measurements::check(&sim, &[Measure::Viscosity]).is_ok());
+    }
+
+    /// A sheared fluid of 64 discs at packing 0.3, rate 0.2 from the streaming profile, held at
+    /// kT 1 by the thermostat.
+    fn sheared_fluid() -> Simulation<2> {
+        let (discs, bx) = lattice_fluid_in::<2>(64, 0.3, Boundary::Periodic, 1).unwrap();
+        let mut sim = Simulation::new(&discs, bx, Options::default()).unwrap();
+        let rate = 0.2;
+        sim.set_shear(Some(edmd_core::Shear::new(rate))).unwrap();
+        let ly = bx.lengths[1];
+        let ys: Vec<f64> = (0..sim.len()).map(|i| sim.position(i)[1]).collect();
+        sim.modify_velocities(|i, mut v| {
+            v[0] += rate * (ys[i] - 0.5 * ly);
+            v
+        });
+        sim.set_thermostat(Some(edmd_core::Andersen {
+            kt: 1.0,
+            rate: 0.5,
+            seed: 1,
+        }))
+        .unwrap();
+        sim
+    }
+
+    /// The shear stress of a sheared fluid: a block at each sample, a finite positive
+    /// viscosity, the CSV table and the summary; a checkpoint carries it on.
+    #[test]
+    fn the_shear_stress_of_a_sheared_fluid_gives_a_positive_viscosity() {
+        let mut sim = sheared_fluid();
+        let which = [Measure::ShearStress];
+        assert!(Measurements::check(&sim, &which).is_ok());
+        let mut m = Measuring::new(&sim, &which, 5.0);
+        assert!(m.run_to(&mut sim, 100.0).unwrap());
+        let (out, tables) = m.obs.results(&sim);
+        let s = &out["shear_stress"];
+        assert_eq!(s["blocks"].as_u64(), Some(20), "{s}");
+        let (eta, error) = (s["eta"].as_f64().unwrap(), s["eta_error"].as_f64().unwrap());
+        assert!(eta.is_finite() && eta > 0.0 && error.is_finite(), "{s}");
+        assert!(s["pxy"].as_f64().unwrap() < 0.0, "{s}");
+        assert_eq!(s["rate"].as_f64(), Some(0.2));
+        let kt = s["kt"].as_f64().unwrap();
+        assert!((kt - 1.0).abs() < 0.2, "{s}");
+        assert_eq!(tables.len(), 1);
+        assert_eq!(tables[0].file, "shear_stress.csv");
+        assert_eq!(tables[0].rows.len(), 20);
+        assert_eq!(tables[0].header[4], "pxy");
+        // Kept in a checkpoint, it goes on.
+        let bytes = checkpoint_bytes(&sim, Format::Course, Some(&m)).unwrap();
+        let (_, _, back) = from_checkpoint_bytes::<2>(&bytes).unwrap();
+        assert_eq!(back.unwrap().obs.results(&sim).0, out);
+    }
+
+    /// Without shear, or at rate 0, the shear stress is refused with the one-line message the
+    /// front doors print.
+    #[test]
+    fn the_shear_stress_is_refused_without_shear() {
+        let (discs, bx) = lattice_fluid_in::<2>(16, 0.2, Boundary::Periodic, 1).unwrap();
+        let mut sim = Simulation::new(&discs, bx, Options::default()).unwrap();
+        let want = "--measure shear-stress: needs shear (Lees-Edwards boundaries, '# edmd shear \
+                    RATE' or edmd gen --shear)";
+        let e = Measurements::check(&sim, &[Measure::ShearStress]).unwrap_err();
+        assert_eq!(e.to_string(), want);
+        sim.set_shear(Some(edmd_core::Shear::new(0.0))).unwrap();
+        let e = Measurements::check(&sim, &[Measure::ShearStress]).unwrap_err();
+        assert_eq!(e.to_string(), want);
+    }
+
+    /// A checkpoint written before the shear stress was measured (its extra bytes end where
+    /// today's `shear_stress` would begin) is read back with the measurements it had.
+    #[test]
+    fn measurements_from_before_the_shear_stress_read_back() {
+        let mut sim = sheared_fluid();
+        let which = [Measure::Temperature];
+        let mut m = Measuring::new(&sim, &which, 0.5);
+        assert!(m.run_to(&mut sim, 2.0).unwrap());
+        let now = checkpoint_bytes(&sim, Format::Course, Some(&m)).unwrap();
+        let (_, extra) = Simulation::<2>::from_checkpoint(&now).unwrap();
+        // `shear_stress: None` is the last byte, 0.
+        assert_eq!(extra.last(), Some(&0));
+        let before = sim.to_checkpoint(&extra[..extra.len() - 1]);
+        let (_, _, back) = from_checkpoint_bytes::<2>(&before).unwrap();
+        let back = back.unwrap();
+        assert_eq!((back.which, back.samples), (which.to_vec(), 4));
+        assert_eq!(back.obs.results(&sim).0, m.obs.results(&sim).0);
     }
 }

@@ -76,6 +76,17 @@ pub struct Summary {
     /// run's start, a checkpoint's included).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub dissipated: Option<f64>,
+    /// Under Lees-Edwards boundaries: the shear rate `du_x / dy`.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub shear_rate: Option<f64>,
+    /// Under Lees-Edwards boundaries: the images' offset along x at the end, in `[0, L_x)`.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub shear_offset: Option<f64>,
+    /// Under Lees-Edwards boundaries: the temperature of the velocities relative to the
+    /// streaming profile at the end, `2 K' / (D N)` with `K'` the peculiar kinetic energy (the
+    /// flow's own kinetic energy left out).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub peculiar_kt: Option<f64>,
     /// Discs moved into the box by `--allow-overlaps`.
     pub discs_moved_into_box: usize,
     /// Trajectory frames written.
@@ -508,6 +519,12 @@ fn execute<const D: usize>(
         }),
         reaction_heat: sim.reactions().map(|_| sim.reaction_heat()),
         dissipated: sim.restitution().map(|_| sim.dissipated()),
+        shear_rate: sim.shear().map(|s| s.rate),
+        shear_offset: sim.shear().map(|s| s.offset),
+        peculiar_kt: sim
+            .shear()
+            .filter(|_| !sim.is_empty())
+            .map(|_| 2.0 * sim.peculiar_kinetic_energy() / (D * sim.len()) as f64),
         discs_moved_into_box: sim.adjusted_discs(),
         frames,
     };
@@ -522,6 +539,7 @@ fn execute<const D: usize>(
         reactions: sim.reactions().map_or(hard.reactions, |r| &r.rules),
         restitution: sim.restitution(),
         gravity: sim.gravity(),
+        shear: sim.shear(),
     };
     let write_state = |mut w: &mut dyn Write| {
         edmd_io::write_full(
@@ -793,6 +811,12 @@ fn human(s: &Summary) -> String {
     }
     if let Some(lost) = s.dissipated {
         t += &format!("\ninelastic collisions: {lost} of kinetic energy lost");
+    }
+    if let (Some(rate), Some(offset)) = (s.shear_rate, s.shear_offset) {
+        t += &format!("\nshear: rate {rate}, images' offset {offset} at the end");
+        if let Some(kt) = s.peculiar_kt {
+            t += &format!("; kT {kt:.6} about the streaming profile");
+        }
     }
     if s.discs_moved_into_box > 0 {
         t += &format!(
