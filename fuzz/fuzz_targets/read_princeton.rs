@@ -17,6 +17,7 @@ fn round_trip<const D: usize>(sys: &LoadedSystem<D>, order: ColumnOrder, text: &
         reactions: &sys.reactions,
         restitution: sys.restitution.as_ref(),
         gravity: sys.gravity,
+        shear: sys.shear,
     };
     princeton::write_full(
         &mut out,
@@ -38,6 +39,7 @@ fn round_trip<const D: usize>(sys: &LoadedSystem<D>, order: ColumnOrder, text: &
     assert_eq!(again.reactions, sys.reactions);
     assert_eq!(again.restitution, sys.restitution);
     assert_eq!(again.gravity, sys.gravity);
+    assert_eq!(again.shear, sys.shear);
     for (a, b) in again.reactions.iter().zip(&sys.reactions) {
         let bits =
             |r: &edmd_core::Reaction| [r.activation, r.probability, r.heat].map(f64::to_bits);
