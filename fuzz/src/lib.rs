@@ -10,9 +10,10 @@
 use arbitrary::{Result, Unstructured};
 use edmd_core::pack::Packer;
 use edmd_core::{
-    Barrier, Boundary, CollisionRule, Demon, Disc, EventKind, EventRecord, Gravity, MultiContact,
-    Observer, Options, OverlapPolicy, PairSteps, Potential, Reaction, Reactions, Restitution,
-    RestitutionLaw, SimBox, Simulation, Step, Vector, OVERLAP_TOLERANCE,
+    Andersen, Barrier, Boundary, CollisionRule, Demon, Disc, Error, EventKind, EventRecord,
+    Gravity, MultiContact, Observer, Options, OverlapPolicy, PairSteps, Potential, Reaction,
+    Reactions, Restitution, RestitutionLaw, Shear, SimBox, Simulation, Step, Vector,
+    OVERLAP_TOLERANCE,
 };
 
 /// The longest box axis over the shortest that the targets build (known defect 1).
@@ -72,6 +73,11 @@ pub struct Setup<const D: usize> {
     pub restitution: Option<Restitution>,
     /// A uniform field (without a potential, barriers or multi-disc collisions).
     pub gravity: Option<Gravity>,
+    /// Lees-Edwards boundaries (periodic x and y, without a field, a potential, barriers or
+    /// multi-disc collisions).
+    pub shear: Option<Shear>,
+    /// An Andersen thermostat (sheared systems only: it draws about the streaming profile).
+    pub thermostat: Option<Andersen>,
 }
 
 /// A random valid system: box lengths within [`MAX_ASPECT`], walls or periodic per axis, up to
@@ -367,6 +373,34 @@ pub fn setup<const D: usize>(u: &mut Unstructured, max_n: usize) -> Result<Setup
             }
         }
     }
+    // And a third of the rest with periodic x and y shear, at up to twice the speed scale
+    // over the box's height either way (the images sliding by up to four times the speed
+    // scale), the images at an offset anywhere in the box; half of those with a thermostat
+    // drawing about the streaming profile.
+    let mut shear = None;
+    let mut thermostat = None;
+    if potential.is_none()
+        && barriers.is_empty()
+        && multi.is_none()
+        && gravity.is_none()
+        && sim_box.is_periodic(0)
+        && sim_box.is_periodic(1)
+        && u.ratio(1, 3)?
+    {
+        let rate = 2.0 * vmax / sim_box.lengths[1] * (2.0 * unit(u)? - 1.0);
+        let offset = match u.int_in_range(0..=2u8)? {
+            0 => 0.0,
+            _ => (unit(u)? * sim_box.lengths[0]).min(sim_box.lengths[0].next_down()),
+        };
+        shear = Some(Shear { rate, offset });
+        if u.arbitrary::<bool>()? {
+            thermostat = Some(Andersen {
+                kt: (vmax * vmax * unit(u)?).max(1e-6),
+                rate: unit(u)?.max(1e-3) * vmax / sim_box.lengths[1],
+                seed: u.arbitrary()?,
+            });
+        }
+    }
     Ok(Setup {
         discs,
         sim_box,
@@ -377,6 +411,8 @@ pub fn setup<const D: usize>(u: &mut Unstructured, max_n: usize) -> Result<Setup
         reactions,
         restitution,
         gravity,
+        shear,
+        thermostat,
     })
 }
 
@@ -461,8 +497,10 @@ impl<const D: usize> Observer<D> for Watch {
 }
 
 /// Runs `events` events in chunks, checking after each: every counter moved by exactly the
-/// events seen, energy conserved (and momentum in a fully periodic box), no overlaps, no disc
-/// outside the box, the clock not gone back. Returns the events run.
+/// events seen, energy conserved (and momentum in a fully periodic box) where nothing feeds or
+/// drains it (the thermostat's redraws and the sliding images of shear do), no overlaps, no
+/// disc outside the box, the clock not gone back, the shear's rate kept and its offset in the
+/// box. Returns the events run.
 pub fn run_checked<const D: usize>(sim: &mut Simulation<D>, events: u64) -> u64 {
     // Reactions release their heat into the kinetic energy: the energy less the heat released
     // is conserved.
@@ -481,6 +519,8 @@ pub fn run_checked<const D: usize>(sim: &mut Simulation<D>, events: u64) -> u64 
     let scale: f64 = (0..sim.len())
         .map(|i| sim.mass(i) * sim.velocity(i).norm2().sqrt())
         .sum();
+    let shear0 = sim.shear();
+    let closed = shear0.is_none() && sim.thermostat().is_none();
     let all_periodic = (0..D).all(|a| sim.sim_box().is_periodic(a)) && sim.barriers().is_empty();
     let mut watch = Watch {
         last: sim.time(),
@@ -536,13 +576,26 @@ pub fn run_checked<const D: usize>(sim: &mut Simulation<D>, events: u64) -> u64 
             sim.time() >= watch.last || k == 0,
             "clock behind the last event"
         );
+        if let (Some(s0), Some(s)) = (shear0, sim.shear()) {
+            assert_eq!(
+                s.rate.to_bits(),
+                s0.rate.to_bits(),
+                "the shear rate changed"
+            );
+            assert!(
+                (0.0..sim.sim_box().lengths[0]).contains(&s.offset),
+                "the images' offset {} outside the box",
+                s.offset
+            );
+        }
         let e = energy(sim);
         assert!(
-            (e - e0).abs()
-                <= ENERGY_TOLERANCE
-                    * scale0
-                        .max(sim.kinetic_energy())
-                        .max(sim.potential_energy().abs()),
+            !closed
+                || (e - e0).abs()
+                    <= ENERGY_TOLERANCE
+                        * scale0
+                            .max(sim.kinetic_energy())
+                            .max(sim.potential_energy().abs()),
             "energy {e} drifted from {e0} after {done} events"
         );
         let mismatched = sim.shell_mismatches(1e-9);
@@ -550,7 +603,7 @@ pub fn run_checked<const D: usize>(sim: &mut Simulation<D>, events: u64) -> u64 
             mismatched.is_empty(),
             "shells that disagree with the distances after {done} events: {mismatched:?}"
         );
-        if all_periodic {
+        if all_periodic && closed {
             let p = sim.momentum();
             assert!(
                 (p - p0).norm2().sqrt() <= ENERGY_TOLERANCE * scale.max(f64::MIN_POSITIVE),
@@ -596,6 +649,14 @@ pub fn engine<const D: usize>(data: &[u8], max_n: usize) {
         .expect("a field the generator made");
     sim.set_restitution(s.restitution.clone())
         .expect("restitution the generator made");
+    match sim.set_shear(s.shear) {
+        Ok(()) => {}
+        // Discs the generator placed clear of the plain images may touch the slid ones.
+        Err(Error::BadShear(m)) if m.contains("overlap") => return,
+        Err(e) => panic!("shear the generator made: {e}"),
+    }
+    sim.set_thermostat(s.thermostat)
+        .expect("a thermostat the generator made");
     let first = run_checked(&mut sim, s.events / 2);
     let ck = sim.to_checkpoint(b"fuzz");
     let (mut copy, extra) = Simulation::<D>::from_checkpoint(&ck).expect("own checkpoint");
@@ -654,14 +715,20 @@ pub fn check_loaded<const D: usize>(sys: &edmd_io::LoadedSystem<D>, text: &str) 
             options,
             0.0,
         )
-        .map(|mut sim| {
+        .and_then(|mut sim| {
             sim.set_reactions(reactions.clone())
                 .expect("rules the reader accepted");
             sim.set_gravity(sys.gravity)
                 .expect("a field the reader accepted");
             sim.set_restitution(sys.restitution.clone())
                 .expect("restitution the reader accepted");
-            sim
+            // Refused only where the images at the file's offset overlap a disc.
+            match sim.set_shear(sys.shear) {
+                Err(Error::BadShear(m)) if !m.contains("overlap") => {
+                    panic!("shear the reader accepted: {m}")
+                }
+                other => other.map(|()| sim),
+            }
         })
     };
     let _ = build(refuse);
@@ -987,6 +1054,56 @@ mod tests {
         }
     }
 
+    /// Writes the checkpoint seeds with shear (format 8: the rate, the images' slide and its
+    /// epoch, each boundary-row disc's slide event), payloads after a mode byte: sheared
+    /// fluids in 2D and 3D, inelastic in 2D and thermostatted in 3D, run until the images have
+    /// slid past several cells. Run with
+    /// `cargo test --manifest-path fuzz/Cargo.toml -- --ignored write_shear_seeds`.
+    #[test]
+    #[ignore]
+    fn write_shear_seeds() {
+        use edmd_core::setup::lattice_fluid_in;
+        let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/corpus/read_checkpoint");
+        fn sheared<const D: usize>(n: usize, eta: f64, rate: f64) -> Vec<u8> {
+            let (discs, bx) = lattice_fluid_in::<D>(n, eta, Boundary::Periodic, 5).unwrap();
+            let mut sim = Simulation::new(&discs, bx, Options::default()).unwrap();
+            if D == 2 {
+                sim.set_restitution(Some(Restitution {
+                    all: RestitutionLaw::Constant(0.8),
+                    pairs: Vec::new(),
+                    wall: 1.0,
+                    tc: 0.0,
+                }))
+                .unwrap();
+            } else {
+                sim.set_thermostat(Some(Andersen {
+                    kt: 1.0,
+                    rate: 0.5,
+                    seed: 7,
+                }))
+                .unwrap();
+            }
+            sim.set_shear(Some(Shear { rate, offset: 0.0 })).unwrap();
+            let ly = bx.lengths[1];
+            let ys: Vec<f64> = (0..sim.len()).map(|i| sim.position(i)[1]).collect();
+            sim.modify_velocities(|i, mut v| {
+                v[0] += rate * (ys[i] - 0.5 * ly);
+                v
+            });
+            sim.run_events(40 * n as u64, &mut ());
+            assert!(sim.shear().unwrap().offset > 0.0);
+            sim.to_checkpoint(b"")
+        }
+        for (name, dim, ck) in [
+            ("seed-shear-2d", 2u8, sheared::<2>(24, 0.4, 0.5)),
+            ("seed-shear-3d", 3u8, sheared::<3>(32, 0.3, -0.4)),
+        ] {
+            let mut seed = vec![dim - 2];
+            seed.extend_from_slice(&ck[CHECKPOINT_HEADER..ck.len() - 4]);
+            std::fs::write(format!("{dir}/{name}"), seed).unwrap();
+        }
+    }
+
     /// Writes the packing checkpoint seed corpus (payloads after a mode byte): run with
     /// `cargo test --manifest-path fuzz/Cargo.toml -- --ignored write_pack_seed_corpus`.
     #[test]
@@ -1075,7 +1192,9 @@ mod tests {
         let sim = Simulation::with_barriers(&s.discs, s.sim_box, &s.barriers, s.options)
             .and_then(|mut sim| sim.set_reactions(s.reactions.clone()).map(|()| sim))
             .and_then(|mut sim| sim.set_gravity(s.gravity).map(|()| sim))
-            .and_then(|mut sim| sim.set_restitution(s.restitution.clone()).map(|()| sim));
+            .and_then(|mut sim| sim.set_restitution(s.restitution.clone()).map(|()| sim))
+            .and_then(|mut sim| sim.set_shear(s.shear).map(|()| sim))
+            .and_then(|mut sim| sim.set_thermostat(s.thermostat).map(|()| sim));
         match sim {
             Ok(sim) => show_run(sim, s.events),
             Err(e) => println!("refused: {e}"),

@@ -123,6 +123,10 @@ def from_arrays_cases(tmp):
         ("gravity", [-1.0, 0, NAN, INF, "1", True, 1 + 1j, [1.0], {"g": 0}, {"g": "1"},
                      {"axis": 5, "g": 1.0}, {"axis": "w", "g": 1.0}, {"axis": 1}, {"x": 1}],
          lambda v: pair(gravity=v)),
+        # The box is 10 wide: an offset of 10 is outside [0, L_x).
+        ("shear", [NAN, INF, "0.1", True, 1 + 1j, {"rate": 1.0}, (1.0,), (1.0, 2.0, 3.0),
+                   (NAN, 0.0), ("1", 0.0), (1.0, -1.0), (1.0, 10.0), (1.0, NAN), object()],
+         lambda v: pair(shear=v)),
     ]
 
 
@@ -176,6 +180,17 @@ def gravity_cases(tmp):
         # 0 and "x" name the periodic axis.
         ("axis", [0, "x", 2, "z", 3, -1, 2**70, 1.5, "w", True, [1], object()],
          lambda v: pair(**sideways).set_gravity(-1.0, axis=v)),
+    ]
+
+
+def shear_cases(tmp):
+    return [
+        ("rate", [NAN, INF, -INF, "1", True, 1 + 1j, [1.0], (1.0, 2.0, 3.0), (NAN, 0.0),
+                  ("1", 0.0), object()],
+         lambda v: small().set_shear(v)),
+        # small() is about 8 wide.
+        ("offset", [-1.0, 1e9, NAN, INF, "0", True, 1 + 1j, [0.0], object()],
+         lambda v: small().set_shear(0.1, offset=v)),
     ]
 
 
@@ -235,6 +250,8 @@ def gen_cases(tmp):
          lambda v: edmd.gen.fluid(n=20, restitution=v)),
         ("gravity", [0, NAN, INF, "-1", True, 1 + 1j, [1.0]],
          lambda v: edmd.gen.fluid(n=20, gravity=v)),
+        ("shear", [NAN, INF, "0.1", True, 1 + 1j, [0.1]],
+         lambda v: edmd.gen.fluid(n=20, shear=v)),
     ]
     return cases
 
@@ -269,8 +286,8 @@ def pack_cases(tmp):
 
 
 GROUPS = [run_cases, measure_cases, write_cases, setter_cases, from_arrays_cases,
-          thermostat_cases, reactions_cases, restitution_cases, gravity_cases, from_file_cases,
-          gen_cases, pack_cases]
+          thermostat_cases, reactions_cases, restitution_cases, gravity_cases, shear_cases,
+          from_file_cases, gen_cases, pack_cases]
 
 
 def ids():

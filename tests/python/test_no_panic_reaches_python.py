@@ -77,6 +77,21 @@ def test_zero_particles_with_restitution_and_a_field():
     sim.set_restitution(None)
 
 
+def test_zero_particles_under_shear():
+    sim = edmd.Simulation.from_arrays(np.zeros((0, 2)), np.zeros((0, 2)), 1.0, box=(10, 10),
+                                      shear=(0.5, 3.0), restitution=0.8)
+    sim.set_thermostat(kT=1.0, rate=1.0)
+    sim.measure("energy", "temperature", every=0.1)
+    sim.run(until=1.0)
+    sim.results()
+    assert sim.shear[0] == 0.5 and abs(sim.shear[1] - 8.0) < 1e-12
+    assert sim.peculiar_velocities.shape == (0, 2) and sim.peculiar_kinetic_energy == 0.0
+    back = pickle.loads(pickle.dumps(sim))
+    assert back.shear == sim.shear
+    sim.set_shear(None)
+    assert sim.shear is None
+
+
 def test_zero_particles_run_and_read():
     sim = empty()
     sim.run(until=1.0)
@@ -146,6 +161,10 @@ USES = {
     "set_gravity": lambda sim: sim.set_gravity(-1.0),
     "gravity": lambda sim: sim.gravity,
     "field_energy": lambda sim: sim.field_energy,
+    "set_shear": lambda sim: sim.set_shear(0.1),
+    "shear": lambda sim: sim.shear,
+    "peculiar_velocities": lambda sim: sim.peculiar_velocities,
+    "peculiar_kinetic_energy": lambda sim: sim.peculiar_kinetic_energy,
 }
 
 

@@ -19,6 +19,7 @@ mod pack;
 mod particles;
 mod render;
 mod run;
+mod shear;
 mod signals;
 mod soak;
 mod three_d;
