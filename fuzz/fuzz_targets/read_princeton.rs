@@ -1,4 +1,4 @@
-//! The Princeton reader with edmd's directives, 2D and 3D: the first byte picks the column order
+//! The Princeton reader with edmd's directives, 1D, 2D and 3D: the first byte picks the column order
 //! and the entry point (`princeton::parse` or `parse_any`), the rest is the file. Any text gives
 //! a system or an error naming a line inside the file, never a panic; a system read is written
 //! back and read again unchanged (its reaction rules to the bit), and the engine builds or
@@ -76,6 +76,7 @@ fuzz_target!(|data: &[u8]| {
             match any {
                 AnyLoaded::Two(sys) => round_trip(&sys, order, text),
                 AnyLoaded::Three(sys) => round_trip(&sys, order, text),
+                AnyLoaded::One(sys) => round_trip(&sys, order, text),
             }
         }
         Err(e) => check_error(text, e.line, &e.message),

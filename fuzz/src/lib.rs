@@ -794,23 +794,42 @@ pub fn checkpoint_box(dim: usize, payload: &[u8]) -> Option<Vec<f64>> {
 /// checkpoint after the run reads back to the same bytes again.
 pub fn checkpoint(bytes: &[u8]) {
     let dim = edmd_core::checkpoint_dim(bytes);
+    let one = Simulation::<1>::from_checkpoint(bytes);
     let two = Simulation::<2>::from_checkpoint(bytes);
     let three = Simulation::<3>::from_checkpoint(bytes);
     match dim {
+        Ok(1) => {
+            assert!(
+                two.is_err() && three.is_err(),
+                "a 1D checkpoint read as 2D or 3D"
+            );
+            if let Ok((sim, extra)) = one {
+                accepted(bytes, sim, &extra);
+            }
+        }
         Ok(2) => {
-            assert!(three.is_err(), "a 2D checkpoint read as 3D");
+            assert!(
+                one.is_err() && three.is_err(),
+                "a 2D checkpoint read as 1D or 3D"
+            );
             if let Ok((sim, extra)) = two {
                 accepted(bytes, sim, &extra);
             }
         }
         Ok(3) => {
-            assert!(two.is_err(), "a 3D checkpoint read as 2D");
+            assert!(
+                one.is_err() && two.is_err(),
+                "a 3D checkpoint read as 1D or 2D"
+            );
             if let Ok((sim, extra)) = three {
                 accepted(bytes, sim, &extra);
             }
         }
         Ok(d) => panic!("checkpoint_dim gave {d}"),
-        Err(_) => assert!(two.is_err() && three.is_err(), "frame refused, body read"),
+        Err(_) => assert!(
+            one.is_err() && two.is_err() && three.is_err(),
+            "frame refused, body read"
+        ),
     }
 }
 

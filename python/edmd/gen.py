@@ -152,7 +152,9 @@ def fluid(*, n=None, packing=None, dim=2, boundary=None, well=None, shoulder=Non
           restitution=None, gravity=None, shear=None):
     """A melted fluid of ``n`` equal discs (``dim=2``) or spheres (``dim=3``) at packing
     fraction ``packing``, with "periodic" (default) or "walls" ``boundary``
-    (``edmd gen fluid``).
+    (``edmd gen fluid``). ``dim=1`` makes hard rods on a line (length 1, mass 1, evenly
+    spaced, packing 0.5 by default and below 1): arrays of shape ``(N, 1)``; a line takes no
+    ``shear``, and its ``gravity`` is along x.
 
     ``well=L`` makes it a square-well fluid: a well of depth ``depth`` (1 when None) out to
     ``L`` diameters (``edmd gen fluid --well L``); ``shoulder=L`` a square-shoulder fluid of
@@ -194,6 +196,7 @@ def fluid(*, n=None, packing=None, dim=2, boundary=None, well=None, shoulder=Non
     ...                           restitution={"all": 0.9, "walls": 0.8, "tc": 1e-4})
     >>> column = edmd.gen.fluid(n=1000, packing=0.3, gravity=-1.0, seed=1)
     >>> flow = edmd.gen.fluid(n=1000, packing=0.3, shear=0.5, restitution=0.8, seed=1)
+    >>> rods = edmd.gen.fluid(n=1000, packing=0.8, dim=1, seed=1)
     """
     return _generate(
         "fluid", dim=dim, seed=seed, n=n, packing=packing, boundary=boundary, well=well,

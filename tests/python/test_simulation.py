@@ -312,7 +312,7 @@ def test_bad_run_and_gen_options_raise_value_error():
         sim.results()
     with pytest.raises(ValueError, match="n must be"):
         edmd.gen.fluid(n=0)
-    with pytest.raises(ValueError, match="dimension must be 2 or 3"):
+    with pytest.raises(ValueError, match="dimension must be 1, 2 or 3"):
         edmd.gen.fluid(n=10, dim=4)
     with pytest.raises(ValueError, match="checkpoint"):
         edmd.Simulation.from_checkpoint(b"EDMDCK" + b"\0" * 40)

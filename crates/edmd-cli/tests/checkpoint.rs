@@ -199,7 +199,7 @@ fn damaged_or_misused_checkpoints_are_refused_in_one_line() {
         &["checkpoint", "checksum"],
     );
     let mut newer = good.clone();
-    newer[8] = 9;
+    newer[8..12].copy_from_slice(&(edmd_core::CHECKPOINT_VERSION + 1).to_le_bytes());
     let newer = write("n", &newer);
     refused(
         &run("edmd", &["run", &newer, "--until", "5"], None),

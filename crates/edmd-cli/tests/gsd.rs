@@ -17,7 +17,7 @@ fn a_gsd_state_runs_like_the_text_state_it_was_written_from() {
     .unwrap()
     {
         edmd_io::AnyLoaded::Three(sys) => sys,
-        edmd_io::AnyLoaded::Two(_) => panic!("spheres-500.txt is 3D"),
+        _ => panic!("spheres-500.txt is 3D"),
     };
     edmd_io::gsd::write_file(
         &gsd,

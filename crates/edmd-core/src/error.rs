@@ -121,6 +121,10 @@ pub enum Error {
     /// a walled x or y axis, or shear with what it does not go with.
     #[error("shear: {0}")]
     BadShear(String),
+    /// One-dimensional self-gravity that cannot be: a coupling not finite or not above 0, a
+    /// dimension other than 1, a periodic line, or self-gravity with what it does not go with.
+    #[error("self-gravity: {0}")]
+    BadSelfGravity(String),
     /// A time beyond what the clock resolves for these discs (see
     /// [`crate::Simulation::clock_limit`]).
     #[error(

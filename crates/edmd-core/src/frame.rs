@@ -22,14 +22,17 @@ pub(crate) struct Kind {
     pub older: &'static [u32],
     /// How a message names it when the other kind is given instead.
     pub name: &'static str,
+    /// The lowest dimension it holds (the highest is 3).
+    pub min_dim: usize,
 }
 
 /// A run's checkpoint (`edmd run`).
 pub(crate) const RUN: Kind = Kind {
     magic: b"EDMDCKPT",
-    version: 8,
-    older: &[1, 2, 3, 4, 5, 6, 7],
+    version: 9,
+    older: &[1, 2, 3, 4, 5, 6, 7, 8],
     name: "a run checkpoint (edmd run continues it)",
+    min_dim: 1,
 };
 
 /// A packing's checkpoint (`edmd pack`).
@@ -38,6 +41,7 @@ pub(crate) const PACK: Kind = Kind {
     version: 1,
     older: &[],
     name: "a packing checkpoint (edmd pack continues it)",
+    min_dim: 2,
 };
 
 const KINDS: [&Kind; 2] = [&RUN, &PACK];
@@ -88,8 +92,8 @@ pub(crate) fn open<'a>(bytes: &'a [u8], kind: &Kind) -> Result<(usize, u32, &'a 
         });
     }
     let dim = word(12) as usize;
-    if dim != 2 && dim != 3 {
-        return bad(format!("dimension {dim} (2 or 3 expected)"));
+    if !(kind.min_dim..=3).contains(&dim) {
+        return bad(format!("dimension {dim} ({} to 3 expected)", kind.min_dim));
     }
     let len = u64::from_le_bytes(bytes[16..24].try_into().expect("8 bytes"));
     let expected = (HEADER as u64).saturating_add(len).saturating_add(4);

@@ -1,7 +1,8 @@
 //! # edmd-draw: one picture of a hard-disc system
 //!
 //! Spheres (3D systems) are drawn by [`draw3`] from a [`Scene3`]: shaded, back to front, in an
-//! orthographic [`View`] from any direction, or as a slice.
+//! orthographic [`View`] from any direction, or as a slice. Rods on a line (1D systems) are
+//! drawn by [`draw_line`] from a [`SceneLine`]: a strip with each rod a bar.
 //!
 //! The viewer window and the offline renderer both call [`draw`], so they show the same
 //! picture: the box, every disc to scale in its colour (or coloured by speed, species or
@@ -23,7 +24,9 @@
 
 #![forbid(unsafe_code)]
 
+mod rods;
 mod spheres;
+pub use rods::{draw_line, draw_line_into, pick_line, LineViewport, SceneLine};
 pub use spheres::{draw3, draw3_into, slice, Scene3, View};
 
 /// A scene of either kind, for code that shows both (the viewer).
@@ -33,6 +36,8 @@ pub enum AnyScene {
     Flat(Scene),
     /// Spheres, and how to look at them.
     Solid(Scene3, View),
+    /// Rods on a line.
+    Line(SceneLine),
 }
 
 impl Default for AnyScene {
@@ -46,6 +51,7 @@ pub fn draw_any_into(scene: &AnyScene, pm: &mut Pixmap) {
     match scene {
         AnyScene::Flat(s) => draw_into(s, pm),
         AnyScene::Solid(s, view) => draw3_into(s, *view, pm),
+        AnyScene::Line(s) => draw_line_into(s, pm),
     }
 }
 

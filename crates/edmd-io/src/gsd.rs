@@ -207,7 +207,7 @@ impl Writer {
         let path = self.path.clone();
         let fail = |what: String| error(&path, what);
         if D != 2 && D != 3 {
-            return Err(fail(format!("cannot write a {D}D system (2 or 3 only)")));
+            return Err(fail(dimension_refusal(D)));
         }
         let (discs, b) = (state.discs, state.sim_box);
         let n = discs.len();
@@ -323,6 +323,15 @@ impl Writer {
     }
 }
 
+/// Why a system of dimension `dim` (not 2 or 3) has no GSD frame: HOOMD's schema holds 2D and
+/// 3D boxes only.
+pub fn dimension_refusal(dim: usize) -> String {
+    format!(
+        "GSD (HOOMD's schema) holds 2D and 3D systems only, not {dim}D{}; write the Princeton format or .xyz",
+        if dim == 1 { " (rods on a line)" } else { "" }
+    )
+}
+
 /// Writes one frame to a new file at `path` (replacing one that is there): a state to continue
 /// from (take [`Precision::Exact`] for edmd to read it back exactly).
 pub fn write_file<const D: usize>(
@@ -332,6 +341,9 @@ pub fn write_file<const D: usize>(
     time: f64,
     precision: Precision,
 ) -> Result<(), GsdError> {
+    if D != 2 && D != 3 {
+        return Err(error(path.as_ref(), dimension_refusal(D)));
+    }
     let mut w = Writer::create(path, precision)?;
     w.append(&State {
         discs,

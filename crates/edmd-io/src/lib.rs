@@ -3,7 +3,8 @@
 //! - [`course`]: the "Collisions" course format (`N`, `R`, `Lx Ly`, then `x y u v` per disc).
 //! - [`princeton`]: the Princeton CollisionSystem format (`N`, then
 //!   `rx ry vx vy radius mass r g b` per disc, in the unit box with walls), with edmd's
-//!   extension, which includes 3D files of spheres (`# edmd dim 3`), stepped potentials and
+//!   extension, which includes 3D files of spheres (`# edmd dim 3`) and 1D files of hard rods
+//!   (`# edmd dim 1`), stepped potentials and
 //!   reaction rules ([`reaction`]: the text of a rule).
 //! - [`xyz`]: extended XYZ trajectory frames, as read by OVITO and ASE.
 //! - [`gsd`]: HOOMD GSD frames, written and read (through the `hoomd-gsd` crate), so that
@@ -130,9 +131,11 @@ pub fn parse(text: &str, format: Format) -> Result<LoadedSystem, ParseError> {
     }
 }
 
-/// A system of either dimension, as the file declares it.
+/// A system of any dimension, as the file declares it.
 #[derive(Clone, Debug, PartialEq)]
 pub enum AnyLoaded {
+    /// Rods on a line (`# edmd dim 1`).
+    One(LoadedSystem<1>),
     /// Discs.
     Two(LoadedSystem<2>),
     /// Spheres (`# edmd dim 3`).
@@ -140,9 +143,10 @@ pub enum AnyLoaded {
 }
 
 impl AnyLoaded {
-    /// 2 or 3.
+    /// 1, 2 or 3.
     pub fn dim(&self) -> usize {
         match self {
+            AnyLoaded::One(_) => 1,
             AnyLoaded::Two(_) => 2,
             AnyLoaded::Three(_) => 3,
         }
@@ -150,7 +154,7 @@ impl AnyLoaded {
 }
 
 /// The dimension `text` declares in `format`: the course format is 2D; a Princeton file is 3D
-/// with a `# edmd dim 3` directive.
+/// with a `# edmd dim 3` directive, 1D with `# edmd dim 1`.
 pub fn dim_of(text: &str, format: Format) -> Result<usize, ParseError> {
     match format {
         Format::Course => Ok(2),
@@ -164,6 +168,7 @@ pub fn parse_any(text: &str, format: Format) -> Result<AnyLoaded, ParseError> {
         (3, Format::Princeton(order)) => {
             princeton::parse_in::<3>(text, order).map(AnyLoaded::Three)
         }
+        (1, Format::Princeton(order)) => princeton::parse_in::<1>(text, order).map(AnyLoaded::One),
         _ => parse(text, format).map(AnyLoaded::Two),
     }
 }
@@ -265,7 +270,7 @@ pub fn write_full<const D: usize>(
         }
         Format::Course => Err(std::io::Error::new(
             std::io::ErrorKind::InvalidInput,
-            "the course format holds 2D systems only",
+            format!("the course format holds 2D systems only, not {D}D"),
         )),
         Format::Princeton(order) => {
             princeton::write_full(out, discs, sim_box, barriers, interactions, order, time)

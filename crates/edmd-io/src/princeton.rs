@@ -55,6 +55,11 @@
 //!   [`ColumnOrder::MassRadius`]), the box defaults to the unit cube with walls,
 //!   `# edmd box LX LY LZ` takes three lengths and `# edmd boundary` one word or three;
 //!   barriers are 2D only. `# edmd dim 2` is allowed and changes nothing.
+//! - `# edmd dim 1` (before the first disc line): a 1D file of hard rods on a line, each line
+//!   `rx vx radius mass r g b [species]` (a rod's length is twice its radius; mass before
+//!   radius with [`ColumnOrder::MassRadius`]), the line `[0, 1]` with walls by default,
+//!   `# edmd box L` and `# edmd boundary walls|periodic` with one value; no barriers, shear or
+//!   field across a missing axis (a field along `x` is allowed).
 
 use edmd_core::{
     Barrier, Boundary, Demon, Disc, Gravity, PairSteps, Potential, Reaction, Restitution, Shear,
@@ -80,7 +85,8 @@ pub fn parse(text: &str, order: ColumnOrder) -> Result<LoadedSystem, ParseError>
     parse_in::<2>(text, order)
 }
 
-/// The dimension a Princeton file declares: 3 with a `# edmd dim 3` directive, else 2. The
+/// The dimension a Princeton file declares: 1 or 3 with a `# edmd dim 1` or `# edmd dim 3`
+/// directive, else 2. The
 /// directive must come before the first disc line, at most once.
 pub fn declared_dim(text: &str) -> Result<usize, ParseError> {
     let mut lines = Lines::new(text);
@@ -120,20 +126,21 @@ pub fn declared_dim(text: &str) -> Result<usize, ParseError> {
         return Ok(2);
     };
     match &w[1..] {
+        ["1"] => Ok(1),
         ["2"] => Ok(2),
         ["3"] => Ok(3),
         _ => Err(err(
             *line,
             format!(
-                "expected '# edmd dim 2' or '# edmd dim 3', found '# edmd {}'",
+                "expected '# edmd dim 1', '# edmd dim 2' or '# edmd dim 3', found '# edmd {}'",
                 w.join(" ")
             ),
         )),
     }
 }
 
-/// Reads a Princeton file of dimension `D` (2 or 3): `rx ry [rz] vx vy [vz] radius mass r g b
-/// [species]` per disc (see the module doc). A file that declares another dimension is an
+/// Reads a Princeton file of dimension `D` (1, 2 or 3): `rx ry [rz] vx vy [vz] radius mass r g
+/// b [species]` per disc, `rx vx radius mass r g b [species]` per rod (see the module doc). A file that declares another dimension is an
 /// error at its `dim` directive (or at line 1 for a 2D file read as 3D).
 pub fn parse_in<const D: usize>(
     text: &str,
@@ -144,8 +151,8 @@ pub fn parse_in<const D: usize>(
         let line = dim_line(text).unwrap_or(1);
         return Err(err(
             line,
-            if declared == 3 {
-                "this is a 3D file ('# edmd dim 3'); this reader takes 2D files".to_string()
+            if declared != 2 {
+                format!("this is a {declared}D file ('# edmd dim {declared}'); this reader takes {D}D files")
             } else {
                 format!("this is a 2D file (no '# edmd dim 3' line); a {D}D file was expected")
             },
@@ -157,7 +164,9 @@ pub fn parse_in<const D: usize>(
         ColumnOrder::RadiusMass => (2 * D, 2 * D + 1),
         ColumnOrder::MassRadius => (2 * D + 1, 2 * D),
     };
-    let mut names: Vec<&str> = if D == 3 {
+    let mut names: Vec<&str> = if D == 1 {
+        vec!["rx", "vx", "", "", "r", "g", "b"]
+    } else if D == 3 {
         vec!["rx", "ry", "rz", "vx", "vy", "vz", "", "", "r", "g", "b"]
     } else {
         vec!["rx", "ry", "vx", "vy", "", "", "r", "g", "b"]
@@ -173,9 +182,11 @@ pub fn parse_in<const D: usize>(
             // The other dimension's line: say how a file declares it (the directive may be
             // missing, misspelt, in capitals or after the discs).
             let hint = match (D, f.len()) {
-                (2, 11 | 12) => {
+                (1 | 2, 11 | 12) => {
                     " (a sphere's line: a 3D file says '# edmd dim 3' before its discs)"
                 }
+                (2 | 3, 7 | 8) => " (a rod's line: a 1D file says '# edmd dim 1' before its rods)",
+                (1, 9 | 10) => " (a disc's line: a 2D file has no '# edmd dim' line)",
                 (3, 9 | 10) => " (a disc's line: a 2D file has no '# edmd dim 3')",
                 _ => "",
             };
@@ -322,6 +333,12 @@ fn check_shear<const D: usize>(d: &Directives<D>) -> Result<(), ParseError> {
     let Some((line, s)) = d.shear else {
         return Ok(());
     };
+    if D < 2 {
+        return Err(err(
+            line,
+            "shear: Lees-Edwards boundaries slide the images across y, and a 1D file has no y axis",
+        ));
+    }
     if let Some((first, _)) = d.gravity {
         return Err(err(
             line,
@@ -430,6 +447,7 @@ fn directives<const D: usize>(list: &[(usize, Vec<&str>)]) -> Result<Directives<
                         }
                     }
                     _ if D == 3 => return Err(err(line, "expected 'boundary X [Y Z]'")),
+                    _ if D == 1 => return Err(err(line, "expected 'boundary X' (one axis in a 1D file)")),
                     _ => return Err(err(line, "expected 'boundary X [Y]'")),
                 }
             }
@@ -476,6 +494,8 @@ fn directives<const D: usize>(list: &[(usize, Vec<&str>)]) -> Result<Directives<
                 once(&mut seen_gravity, "gravity")?;
                 let usage = if D == 3 {
                     "expected 'gravity x|y|z G'"
+                } else if D == 1 {
+                    "expected 'gravity x G' (a 1D file has the x axis alone)"
                 } else {
                     "expected 'gravity x|y G'"
                 };
@@ -484,7 +504,7 @@ fn directives<const D: usize>(list: &[(usize, Vec<&str>)]) -> Result<Directives<
                 };
                 let axis = match *axis {
                     "x" => 0,
-                    "y" => 1,
+                    "y" if D >= 2 => 1,
                     "z" if D == 3 => 2,
                     _ => return Err(err(line, usage)),
                 };
@@ -519,7 +539,12 @@ fn directives<const D: usize>(list: &[(usize, Vec<&str>)]) -> Result<Directives<
                 }
                 parts.push((line, part));
             }
-            Some("barrier") if D != 2 => return Err(err(line, "barriers exist in 2D files only")),
+            Some("barrier") if D != 2 => {
+                return Err(err(
+                    line,
+                    format!("barriers exist in 2D files only, not in this {D}D file"),
+                ))
+            }
             Some("barrier") => barriers.push(barrier(line, &w[1..])?),
             // Read before the discs by `declared_dim`.
             Some("dim") => {}
@@ -694,7 +719,7 @@ fn barrier(line: usize, w: &[&str]) -> Result<Barrier, ParseError> {
 /// Writes discs in the Princeton format, numbers in their shortest exact form. Directives are
 /// written only when the box, boundaries or barriers differ from the plain format's, and the
 /// species column only when some species is not 0, so plain systems give plain files. A 3D
-/// system gets `# edmd dim 3` right after the count.
+/// (1D) system gets `# edmd dim 3` (`# edmd dim 1`) right after the count.
 pub fn write<const D: usize>(
     out: &mut impl std::io::Write,
     discs: &[Disc<D>],
@@ -883,7 +908,7 @@ mod tests {
         assert_eq!(back.time, t, "the time is written exactly");
         for (bad, what) in [
             ("# edmd time -1", ">= 0"),
-            ("# edmd time 1 2", "expected 1 numbers"),
+            ("# edmd time 1 2", "expected 1 number (T)"),
             ("# edmd time 1\n# edmd time 2", "a second '# edmd time'"),
             ("# edmd time nan", "T"),
         ] {
@@ -1593,6 +1618,141 @@ mod tests {
                 .unwrap_err()
                 .to_string();
             assert!(e.contains(want), "{e}");
+        }
+    }
+
+    const RODS: &str = "3\n# edmd dim 1\n# edmd box 10\n# edmd boundary periodic\n1 0.5 0.5 1 10 20 30\n4.25 -1 0.5 2 0 0 0 3\n9.5 0.125 0.25 1 255 0 0\n";
+
+    #[test]
+    fn rods_are_read_and_round_trip_bit_for_bit() {
+        assert_eq!(declared_dim(RODS), Ok(1));
+        let s = parse_in::<1>(RODS, ColumnOrder::RadiusMass).unwrap();
+        assert_eq!(s.sim_box, SimBox::periodic([10.0]));
+        assert_eq!(s.discs[1].pos.0, [4.25]);
+        assert_eq!(s.discs[1].vel.0, [-1.0]);
+        assert_eq!((s.discs[1].radius, s.discs[1].mass), (0.5, 2.0));
+        assert_eq!(s.discs[1].species, 3);
+        assert_eq!(s.discs[0].colour, [10, 20, 30]);
+        assert_eq!(s.lines, vec![5, 6, 7]);
+        let mut discs = s.discs.clone();
+        discs[0].pos.0 = [0.1 + 0.2];
+        discs[2].vel.0 = [1.0 / 3.0];
+        for order in [ColumnOrder::RadiusMass, ColumnOrder::MassRadius] {
+            let mut out = Vec::new();
+            write(&mut out, &discs, &s.sim_box, &[], order, 2.5).unwrap();
+            let text = String::from_utf8(out).unwrap();
+            assert!(
+                text.starts_with("3\n# edmd dim 1\n# edmd box 10.0\n# edmd boundary periodic\n"),
+                "{text}"
+            );
+            let back = parse_in::<1>(&text, order).unwrap();
+            assert_eq!(back.discs, discs);
+            assert_eq!(back.sim_box, s.sim_box);
+            assert_eq!(back.time, 2.5);
+        }
+        // The unit line with walls is the default and is not written.
+        let mut out = Vec::new();
+        write(
+            &mut out,
+            &discs[..1],
+            &SimBox::walls([1.0]),
+            &[],
+            ColumnOrder::RadiusMass,
+            0.0,
+        )
+        .unwrap();
+        let text = String::from_utf8(out).unwrap();
+        assert_eq!(
+            text,
+            "1\n# edmd dim 1\n0.30000000000000004 0.5 0.5 1.0 10 20 30\n"
+        );
+        // Read in another dimension, it says what it is.
+        let e = parse(RODS, ColumnOrder::RadiusMass).unwrap_err();
+        assert_eq!(e.line, 2);
+        assert!(e.message.contains("1D file ('# edmd dim 1')"), "{e}");
+        let e = parse_in::<1>(TWO, ColumnOrder::RadiusMass).unwrap_err();
+        assert!(e.message.contains("2D file"), "{e}");
+    }
+
+    #[test]
+    fn malformed_1d_files_name_the_line() {
+        let cases: &[(&str, usize, &str)] = &[
+            // A disc's line in a 1D file.
+            (
+                "1\n# edmd dim 1\n0.5 0.5 0 0 0.1 1 0 0 0\n",
+                3,
+                "found 9 (a disc's line: a 2D file has no '# edmd dim' line)",
+            ),
+            // A rod's line without the directive.
+            (
+                "1\n0.5 0 0.1 1 0 0 0\n",
+                2,
+                "found 7 (a rod's line: a 1D file says '# edmd dim 1' before its rods)",
+            ),
+            // Too few fields.
+            (
+                "1\n# edmd dim 1\n0.5 0 0.1 1\n",
+                3,
+                "expected 7 fields (rx vx radius mass r g b) or 8 (with species), found 4",
+            ),
+            ("1\n# edmd dim 1\n0.5 zz 0.1 1 0 0 0\n", 3, "vx"),
+            (
+                "1\n# edmd dim 1\n0.5 0 -0.1 1 0 0 0\n",
+                3,
+                "radius must be > 0",
+            ),
+            (
+                "1\n# edmd dim 1\n0.5 0 0.1 0 0 0 0\n",
+                3,
+                "mass must be > 0",
+            ),
+            ("1\n# edmd dim 1\n0.5 0 0.1 1 0 0 256\n", 3, "colour b"),
+            (
+                "1\n# edmd dim 1\n0.5 0 0.1 1 0 0 0 x\n",
+                3,
+                "species must be a whole number",
+            ),
+            ("2\n# edmd dim 1\n0.5 0 0.1 1 0 0 0\n", 3, "disc 2 of 2"),
+            // Directives with the other dimensions' values.
+            (
+                "1\n# edmd dim 1\n# edmd box 2 2\n0.5 0 0.1 1 0 0 0\n",
+                3,
+                "expected 1 number (LX), found 2",
+            ),
+            (
+                "1\n# edmd dim 1\n# edmd boundary walls periodic\n0.5 0 0.1 1 0 0 0\n",
+                3,
+                "expected 'boundary X' (one axis in a 1D file)",
+            ),
+            (
+                "1\n# edmd dim 1\n# edmd barrier x 0.5\n0.5 0 0.1 1 0 0 0\n",
+                3,
+                "barriers exist in 2D files only",
+            ),
+            (
+                "1\n# edmd dim 1\n# edmd gravity y -1\n0.5 0 0.1 1 0 0 0\n",
+                3,
+                "expected 'gravity x G'",
+            ),
+            (
+                "1\n# edmd dim 1\n# edmd boundary periodic\n# edmd shear 1\n0.5 0 0.1 1 0 0 0\n",
+                4,
+                "a 1D file has no y axis",
+            ),
+            (
+                "1\n# edmd dim 0\n0.5 0 0.1 1 0 0 0\n",
+                2,
+                "expected '# edmd dim 1', '# edmd dim 2' or '# edmd dim 3'",
+            ),
+        ];
+        for (text, line, want) in cases {
+            let e = match declared_dim(text) {
+                Ok(1) => parse_in::<1>(text, ColumnOrder::RadiusMass).unwrap_err(),
+                Ok(_) => parse(text, ColumnOrder::RadiusMass).unwrap_err(),
+                Err(e) => e,
+            };
+            assert_eq!(e.line, *line, "{text:?}: {e}");
+            assert!(e.message.contains(want), "{text:?}: {e}");
         }
     }
 }

@@ -90,8 +90,9 @@ pub(crate) fn numbers(
         return Err(err(
             line,
             format!(
-                "expected {} numbers ({}), found {}",
+                "expected {} number{} ({}), found {}",
                 names.len(),
+                if names.len() == 1 { "" } else { "s" },
                 names.join(" "),
                 fields.len()
             ),

@@ -2,7 +2,8 @@
 //!
 //! Each frame is `N`, a comment line with `Lattice="..." Properties=... Time=... pbc="..."`, and
 //! one line per disc: `species x y z vx vy vz px py pz radius mass mass r g b`, with `z = 0` in
-//! 2D (both readers want three components) and the real `z` for spheres. Velocities and masses are written twice, because the two
+//! 2D (both readers want three components), `y = z = 0` for rods on a line (1D) and the real
+//! `z` for spheres. Velocities and masses are written twice, because the two
 //! readers name them differently: OVITO maps `velo` to Velocity and `mass` to Mass, while ASE
 //! takes `momenta` (`m v`) and `masses` (it reads `velo` and `mass` as unnamed extra arrays, and
 //! would otherwise give every disc the mass of hydrogen and zero velocity). Colours are written in `[0, 1]` as OVITO's `Color` property expects.
@@ -66,27 +67,34 @@ pub fn write_frame<const D: usize>(
     if D == 3 {
         return write_frame_3d(out, discs, sim_box, time);
     }
-    let l = sim_box.lengths;
-    let pbc: Vec<&str> = (0..D)
-        .map(|a| if sim_box.is_periodic(a) { "T" } else { "F" })
-        .collect();
+    // Rods on a line (1D) are written as discs on the x axis: y = 0, with a unit, non-periodic
+    // y length as the 2D frames have a unit z.
+    let l = |a: usize| if a < D { sim_box.lengths[a] } else { 1.0 };
+    let pbc = |a: usize| {
+        if a < D && sim_box.is_periodic(a) {
+            "T"
+        } else {
+            "F"
+        }
+    };
+    let c = |v: edmd_core::Vector<D>, a: usize| if a < D { v[a] } else { 0.0 };
     writeln!(out, "{}", discs.len())?;
     writeln!(
         out,
         "Lattice=\"{} 0.0 0.0 0.0 {} 0.0 0.0 0.0 1.0\" Properties=species:S:1:pos:R:3:velo:R:3:momenta:R:3:radius:R:1:mass:R:1:masses:R:1:color:R:3 Time={:?} pbc=\"{} {} F\"",
-        l[0], l[1], time, pbc[0], pbc[1]
+        l(0), l(1), time, pbc(0), pbc(1)
     )?;
     for d in discs {
         let s = symbol(d.species)?;
         writeln!(
             out,
             "{s} {:?} {:?} 0.0 {:?} {:?} 0.0 {:?} {:?} 0.0 {:?} {:?} {:?} {:.4} {:.4} {:.4}",
-            d.pos[0],
-            d.pos[1],
-            d.vel[0],
-            d.vel[1],
-            d.mass * d.vel[0],
-            d.mass * d.vel[1],
+            c(d.pos, 0),
+            c(d.pos, 1),
+            c(d.vel, 0),
+            c(d.vel, 1),
+            d.mass * c(d.vel, 0),
+            d.mass * c(d.vel, 1),
             d.radius,
             d.mass,
             d.mass,
@@ -213,6 +221,25 @@ mod tests {
         assert_eq!(
             lines[2],
             "H 0.5 0.25 2.5 1.0 0.0 -2.0 2.0 0.0 -4.0 0.1 2.0 2.0 0.0000 0.0000 0.0000"
+        );
+    }
+
+    #[test]
+    fn rods_are_written_on_the_x_axis() {
+        let d = Disc::new(Vector([0.5]), Vector([-2.0]), 0.25);
+        let mut out = Vec::new();
+        write_frame(&mut out, &[d], &SimBox::periodic([4.0]), 0.5).unwrap();
+        let text = String::from_utf8(out).unwrap();
+        let lines: Vec<&str> = text.lines().collect();
+        assert_eq!(lines[0], "1");
+        assert!(
+            lines[1].starts_with("Lattice=\"4 0.0 0.0 0.0 1 0.0"),
+            "{text}"
+        );
+        assert!(lines[1].ends_with("pbc=\"T F F\""), "{text}");
+        assert_eq!(
+            lines[2],
+            "H 0.5 0.0 0.0 -2.0 0.0 0.0 -2.0 0.0 0.0 0.25 1.0 1.0 0.0000 0.0000 0.0000"
         );
     }
 }

@@ -21,6 +21,7 @@ fn two(a: AnyLoaded) -> edmd_io::LoadedSystem<2> {
     match a {
         AnyLoaded::Two(s) => s,
         AnyLoaded::Three(_) => panic!("read as 3D"),
+        AnyLoaded::One(_) => panic!("read as 1D"),
     }
 }
 
@@ -28,6 +29,7 @@ fn three(a: AnyLoaded) -> edmd_io::LoadedSystem<3> {
     match a {
         AnyLoaded::Three(s) => s,
         AnyLoaded::Two(_) => panic!("read as 2D"),
+        AnyLoaded::One(_) => panic!("read as 1D"),
     }
 }
 
@@ -783,4 +785,19 @@ with gsd.hoomd.open(sys.argv[1], 'r') as t:
     assert!((p[1] - 0.9).abs() < 1e-6);
     assert_eq!(lines[4], "[1, 0, 0] [1.0, 3.0]");
     assert_eq!(lines[5], "12.5 [0, 1, 0]");
+}
+
+#[test]
+fn rods_on_a_line_are_refused_in_one_line_and_no_file_is_left() {
+    let dir = temp();
+    let path = dir.path().join("rods.gsd");
+    let d = Disc::new(Vector([0.5]), Vector([1.0]), 0.25);
+    let e = gsd::write_file(&path, &[d], &SimBox::walls([2.0]), 0.0, Precision::Exact).unwrap_err();
+    let text = e.to_string();
+    assert!(
+        text.contains("2D and 3D systems only, not 1D (rods on a line)"),
+        "{text}"
+    );
+    assert!(!text.contains('\n'));
+    assert!(!path.exists());
 }

@@ -210,9 +210,9 @@ impl Input {
         potential: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<Self> {
         let (pos, n, dim) = float_matrix(positions, "positions")?;
-        if dim != 2 && dim != 3 {
+        if !(1..=3).contains(&dim) {
             return Err(value_error(format!(
-                "positions: expected shape (N, 2) or (N, 3), got ({n}, {dim})"
+                "positions: expected shape (N, 1), (N, 2) or (N, 3), got ({n}, {dim})"
             )));
         }
         let (vel, nv, dv) = float_matrix(velocities, "velocities")?;
@@ -266,7 +266,7 @@ impl Input {
         let Some(lengths) = lengths else {
             return Err(value_error(format!(
                 "box: give the box lengths ({})",
-                if dim == 2 { "Lx, Ly" } else { "Lx, Ly, Lz" }
+                ["L", "Lx, Ly", "Lx, Ly, Lz"][dim - 1]
             )));
         };
         if lengths.len() != dim {

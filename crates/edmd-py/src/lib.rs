@@ -42,8 +42,9 @@ use edmd::checkpoint::MAX_STOPS;
 /// typing slip in `every` or a huge system should be refused at once, not fill the disc.
 const MAX_TRAJECTORY_BYTES: f64 = 1e10;
 
-/// A simulation of either dimension.
+/// A simulation of any dimension.
 enum Inner {
+    One(State<1>),
     Two(State<2>),
     Three(State<3>),
 }
@@ -52,6 +53,7 @@ enum Inner {
 macro_rules! each {
     ($inner:expr, $s:ident => $body:expr) => {
         match $inner {
+            Inner::One($s) => $body,
             Inner::Two($s) => $body,
             Inner::Three($s) => $body,
         }
@@ -178,6 +180,7 @@ fn from_checkpoint(bytes: &[u8], what: &str) -> PyResult<Inner> {
     }
     match edmd_core::checkpoint_dim(bytes) {
         Ok(3) => Ok(Inner::Three(load::<3>(bytes, what)?)),
+        Ok(1) => Ok(Inner::One(load::<1>(bytes, what)?)),
         Ok(_) => Ok(Inner::Two(load::<2>(bytes, what)?)),
         Err(e) => Err(value_error(format!("{what}: {e}"))),
     }
@@ -368,6 +371,7 @@ impl PySimulation {
 
     fn dimension(&self) -> usize {
         match self.inner {
+            Inner::One(_) => 1,
             Inner::Two(_) => 2,
             Inner::Three(_) => 3,
         }
@@ -647,6 +651,7 @@ impl PySimulation {
         guarded("from_arrays", || {
             let inner = match input.dim {
                 3 => Inner::Three(made(&input, opts, reactions, field, restitution, sliding)?),
+                1 => Inner::One(made(&input, opts, reactions, field, restitution, sliding)?),
                 _ => Inner::Two(made(&input, opts, reactions, field, restitution, sliding)?),
             };
             Ok(PySimulation { inner })
@@ -1710,6 +1715,10 @@ impl PySimulation {
                 built(&name, &sys, opts(sys.format)?, seed)?,
                 sys.format,
             )),
+            edmd_io::AnyLoaded::One(sys) => Inner::One(State::new(
+                built(&name, &sys, opts(sys.format)?, seed)?,
+                sys.format,
+            )),
         };
         Ok(PySimulation { inner })
     }
@@ -1773,8 +1782,8 @@ fn render(inner: &Inner, kind: &str, path: &Path) -> PyResult<Vec<u8>> {
                     let flat: Vec<edmd_core::Disc> = discs.iter().map(|d| d.with_dim()).collect();
                     let b = s.sim.sim_box();
                     let flat_box = edmd_core::SimBox {
-                        lengths: [b.lengths[0], b.lengths[1]],
-                        boundaries: [b.boundaries[0], b.boundaries[1]],
+                        lengths: std::array::from_fn(|a| b.lengths[a]),
+                        boundaries: std::array::from_fn(|a| b.boundaries[a]),
                     };
                     match edmd_io::course::fits(&flat, &flat_box, s.sim.barriers()) {
                         Ok(()) => edmd_io::course::write(&mut w, &flat, &flat_box).map_err(io_error)?,
@@ -1787,7 +1796,10 @@ fn render(inner: &Inner, kind: &str, path: &Path) -> PyResult<Vec<u8>> {
                     }
                 }
                 Some(Format::Course) => {
-                    return Err(value_error("format: the course format holds 2D systems only"))
+                    return Err(value_error(format!(
+                        "format: the course format holds 2D systems only, not {}D",
+                        s.sim.sim_box().lengths.len()
+                    )))
                 }
                 // The stepped potential, the reaction rules and the restitution, if any, as
                 // `# edmd potential`, `# edmd reaction` and `# edmd restitution` lines (as
@@ -1962,8 +1974,8 @@ fn _generate(
     shear: Option<f64>,
 ) -> PyResult<PySimulation> {
     use edmd::gen::{make_with, ChemistryArgs, GenArgs, Generated};
-    let dim =
-        edmd::options::parse_dim(&dim.to_string()).map_err(|e| value_error(format!("dim: {e}")))?;
+    let dim = edmd::options::parse_dim_with_rods(&dim.to_string())
+        .map_err(|e| value_error(format!("dim: {e}")))?;
     let boundary = parse_boundary(boundary, "boundary")?;
     let opts = options(rule, multi, false)?;
     // `edmd gen --species F0,F1,... --reaction RULE ...`: the fractions and the rules' texts
@@ -2129,6 +2141,12 @@ fn _generate(
             }),
             Generated::Three(system) => Ok(PySimulation {
                 inner: Inner::Three(State::new(
+                    reactive(&system, &potential, opts, kind, reactions, field, restitution, sliding)?,
+                    Format::Princeton(ColumnOrder::RadiusMass),
+                )),
+            }),
+            Generated::One(system) => Ok(PySimulation {
+                inner: Inner::One(State::new(
                     reactive(&system, &potential, opts, kind, reactions, field, restitution, sliding)?,
                     Format::Princeton(ColumnOrder::RadiusMass),
                 )),

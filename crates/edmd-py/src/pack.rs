@@ -200,8 +200,14 @@ pub fn pack<'py>(
         .as_ref()
         .map(|p| p.display().to_string())
         .unwrap_or_default();
+    if let Some(Inner::One(_)) = start.as_ref().map(|s| &s.inner) {
+        return Err(value_error(
+            "start: rods on a line (1D) are not packed: edmd.gen.fluid(dim=1, packing=ETA) makes a line of any packing below 1",
+        ));
+    }
     let given = start.map(|s| {
         let (start, barriers, stepped) = match &s.inner {
+            Inner::One(_) => unreachable!("refused above"),
             Inner::Two(s) => (
                 Start::Two(s.sim.discs(), *s.sim.sim_box()),
                 !s.sim.barriers().is_empty(),

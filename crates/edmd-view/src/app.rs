@@ -588,6 +588,7 @@ impl<const D: usize> ViewerApp<D> {
                 let hit = match &self.scene {
                     AnyScene::Flat(scene) => pick(scene, sw, sh, px, py),
                     AnyScene::Solid(..) => None,
+                    AnyScene::Line(scene) => edmd_draw::pick_line(scene, sw, sh, px),
                 };
                 if let Some(i) = hit {
                     self.model.toggle_tag(i);

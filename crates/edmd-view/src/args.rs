@@ -195,6 +195,11 @@ impl ViewArgs {
             edmd_io::AnyLoaded::Three(sys) => {
                 build(path, &sys, Options::default()).map(AnySimulation::Three)
             }
+            // The window's panels (the speed histogram against Maxwell's law, the trails in a
+            // plane) are those of discs and spheres; `edmd render` draws a line of rods.
+            edmd_io::AnyLoaded::One(_) => user_error(format!(
+                "{path}: a 1D file (rods on a line): the viewer shows 2D and 3D systems; draw rods with edmd render {path} --until T -o rods.gif"
+            )),
         }
     }
 
@@ -379,7 +384,7 @@ mod tests {
         assert_eq!(sim.reactions().map(|r| r.rules.len()), Some(1));
         let colours = |m: &Model| match m.scene() {
             AnyScene::Flat(s) => s.colours,
-            AnyScene::Solid(..) => unreachable!("a 2D file"),
+            _ => unreachable!("a 2D file"),
         };
         let mut m = Model::new(sim, Colouring::File);
         assert_eq!(colours(&m), vec![[200, 0, 0], [0, 0, 200]]);
@@ -399,5 +404,17 @@ mod tests {
         let e = a.simulation().unwrap_err();
         assert!(e.downcast_ref::<edmd::UserError>().is_some());
         assert!(e.to_string().contains("cannot read"));
+    }
+
+    #[test]
+    fn a_1d_file_is_refused_in_one_line_naming_the_renderer() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("rods.txt");
+        std::fs::write(&path, "1\n# edmd dim 1\n# edmd box 4\n1 1 0.5 1 0 0 0\n").unwrap();
+        let a = parse(&[path.to_str().unwrap()]).unwrap();
+        let e = a.simulation_any().err().unwrap().to_string();
+        assert!(e.contains("a 1D file (rods on a line)"), "{e}");
+        assert!(e.contains("edmd render"), "{e}");
+        assert!(!e.contains('\n'));
     }
 }

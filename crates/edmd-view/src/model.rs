@@ -406,7 +406,7 @@ mod tests {
         assert!(h.iter().all(|b| b.rayleigh >= 0.0));
         match m.scene() {
             AnyScene::Flat(scene) => assert_eq!(scene.positions.len(), 2),
-            AnyScene::Solid(..) => panic!("a 2D model drew spheres"),
+            _ => panic!("a 2D model drew spheres or rods"),
         }
     }
 
@@ -429,7 +429,7 @@ mod tests {
         let mut m = Model::new(sim, Colouring::Energy);
         let bonds = |m: &Model| match m.scene() {
             AnyScene::Flat(s) => s.bonds,
-            AnyScene::Solid(..) => panic!("a 2D model drew spheres"),
+            _ => panic!("a 2D model drew spheres or rods"),
         };
         assert!(bonds(&m).is_empty());
         m.bonds = true;
@@ -468,7 +468,7 @@ mod tests {
                 assert_eq!(scene.positions.len(), 2);
                 assert_eq!(view, View::default());
             }
-            AnyScene::Flat(_) => panic!("a 3D model drew discs"),
+            _ => panic!("a 3D model drew discs or rods"),
         }
         m.sample();
         // The law is Maxwell's: its density at the RMS speed 1 for kT = 1/3 (m v^2 = 3 kT).

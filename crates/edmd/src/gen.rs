@@ -105,8 +105,9 @@ pub struct GenArgs {
     /// Output file (`-` for standard output).
     #[arg(long, short, value_name = "FILE")]
     pub output: String,
-    /// Dimension: 2 (discs) or 3 (spheres; fluid and mixture only).
-    #[arg(long, default_value_t = 2, value_parser = crate::options::parse_dim)]
+    /// Dimension: 2 (discs), 3 (spheres; fluid and mixture only) or 1 (hard rods on a line;
+    /// fluid only).
+    #[arg(long, default_value_t = 2, value_parser = crate::options::parse_dim_with_rods)]
     pub dim: usize,
     /// Random seed: the same seed gives the same file.
     #[arg(long, default_value_t = 1, allow_negative_numbers = true)]
@@ -233,6 +234,7 @@ impl GenArgs {
             * match generated {
                 Generated::Two(s, _) => s.discs.iter().map(|d| d.radius).fold(0.0, largest),
                 Generated::Three(s) => s.discs.iter().map(|d| d.radius).fold(0.0, largest),
+                Generated::One(s) => s.discs.iter().map(|d| d.radius).fold(0.0, largest),
             };
         self.potential(diameter)
     }
@@ -245,6 +247,19 @@ pub enum Generated {
     Two(edmd_core::System<2>, Format),
     /// Spheres (a 3D Princeton file).
     Three(edmd_core::System<3>),
+    /// Hard rods on a line (a 1D Princeton file).
+    One(edmd_core::System<1>),
+}
+
+impl Generated {
+    /// 1, 2 or 3.
+    pub fn dim(&self) -> usize {
+        match self {
+            Generated::One(_) => 1,
+            Generated::Two(..) => 2,
+            Generated::Three(_) => 3,
+        }
+    }
 }
 
 /// Runs `edmd gen`.
@@ -285,6 +300,12 @@ pub fn run(cmd: &GenCommand) -> Result<()> {
             Format::Princeton(ColumnOrder::RadiusMass),
             args,
         ),
+        Generated::One(system) => write_system(
+            &system,
+            interactions,
+            Format::Princeton(ColumnOrder::RadiusMass),
+            args,
+        ),
     }
 }
 
@@ -316,11 +337,13 @@ pub fn make_with(args: &GenArgs, chemistry: &ChemistryArgs) -> Result<(Generated
         match &mut generated {
             Generated::Two(s, _) => assign_species(&mut s.discs, &fractions, args.seed),
             Generated::Three(s) => assign_species(&mut s.discs, &fractions, args.seed),
+            Generated::One(s) => assign_species(&mut s.discs, &fractions, args.seed),
         }
     }
     let species: Vec<u16> = match &generated {
         Generated::Two(s, _) => s.discs.iter().map(|d| d.species).collect(),
         Generated::Three(s) => s.discs.iter().map(|d| d.species).collect(),
+        Generated::One(s) => s.discs.iter().map(|d| d.species).collect(),
     };
     let made: Vec<u16> = rules
         .iter()
@@ -459,6 +482,8 @@ pub fn make(args: &GenArgs) -> Result<Generated> {
             on_profile(&mut s, shear.rate);
             Generated::Three(s)
         }
+        // Refused by `shear_of`.
+        Generated::One(s) => Generated::One(s),
     })
 }
 
@@ -507,6 +532,11 @@ pub fn shear_of(args: &GenArgs, generated: &Generated) -> Result<Option<edmd_cor
             s.sim_box.lengths[0],
             s.sim_box.is_periodic(0) && s.sim_box.is_periodic(1),
         ),
+        Generated::One(_) => {
+            return user_error(format!(
+                "gen {name}: --shear slides the images across y, and rods on a line (--dim 1) have no y axis"
+            ))
+        }
     };
     if !periodic {
         return user_error(format!(
@@ -554,6 +584,8 @@ fn make_in_field(args: &GenArgs) -> Result<Generated> {
             open3(&mut s.sim_box);
             Generated::Three(s)
         }
+        // A line has no sideways axis: the field is along x, between walls.
+        Generated::One(s) => Generated::One(s),
     })
 }
 
@@ -577,6 +609,7 @@ pub fn gravity_of(args: &GenArgs, generated: &Generated) -> Result<Option<edmd_c
     let (dim, walled) = match generated {
         Generated::Two(s, _) => (2, !s.sim_box.is_periodic(1)),
         Generated::Three(s) => (3, !s.sim_box.is_periodic(2)),
+        Generated::One(s) => (1, !s.sim_box.is_periodic(0)),
     };
     let field = edmd_core::Gravity { axis: dim - 1, g };
     field
@@ -602,6 +635,9 @@ fn make_in_box(args: &GenArgs) -> Result<Generated> {
     };
     if args.dim == 3 {
         return make_3d(kind, args);
+    }
+    if args.dim == 1 {
+        return make_1d(kind, args);
     }
     apply(&mut kind, args)?;
     check_cost(&kind)?;
@@ -647,6 +683,37 @@ fn make_3d(mut kind: GenKind, args: &GenArgs) -> Result<Generated> {
     };
     let (system, _) = made.or_else(|e| user_error(format!("gen {}: {e}", args.kind)))?;
     Ok(Generated::Three(at_kt(system, args)?))
+}
+
+/// `edmd gen fluid --dim 1`: hard rods (length 1, mass 1) evenly spaced on a line with thermal
+/// velocities ([`edmd_core::setup::lattice::rods`]), written as a 1D Princeton file. Rods never
+/// pass each other, so there is no lattice to melt: the even spacing is the start.
+fn make_1d(mut kind: GenKind, args: &GenArgs) -> Result<Generated> {
+    let name = &args.kind;
+    match &mut kind {
+        GenKind::Fluid(k) => k.packing = 0.5,
+        _ => {
+            return user_error(format!(
+                "gen {name}: --dim 1 makes fluids only (gen fluid: rods on a line)"
+            ))
+        }
+    }
+    if args.course {
+        return user_error("gen: the course format holds 2D systems only (--course with --dim 1)");
+    }
+    apply(&mut kind, args)?;
+    check_cost(&kind)?;
+    let GenKind::Fluid(k) = &kind else {
+        unreachable!("checked above")
+    };
+    let (discs, sim_box) = edmd_core::setup::lattice::rods(k.n, k.packing, k.boundary, args.seed)
+        .or_else(|e| user_error(format!("gen {name}: {e}")))?;
+    let system = edmd_core::System {
+        discs,
+        sim_box,
+        barriers: Vec::new(),
+    };
+    Ok(Generated::One(at_kt(system, args)?))
 }
 
 /// A fluid at `--kt`: the generator's velocities (kT = 1) scaled by `sqrt(kT)`.
@@ -713,7 +780,11 @@ fn write_system<const D: usize>(
         eprintln!(
             "edmd gen: {} {} ({}){rules} written to {}",
             system.discs.len(),
-            if D == 3 { "spheres" } else { "discs" },
+            match D {
+                1 => "rods",
+                3 => "spheres",
+                _ => "discs",
+            },
             args.kind,
             args.output
         );

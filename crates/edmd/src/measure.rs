@@ -320,6 +320,36 @@ impl<const D: usize> Measurements<D> {
     /// the thermal conductivity of a mixture, the shear stress without shear), with a one-line
     /// message; the run's front door calls it before [`Self::new`].
     pub fn check(sim: &Simulation<D>, which: &[Measure]) -> Result<()> {
+        if D == 1 {
+            for (m, name, why) in [
+                (
+                    Measure::Speeds,
+                    "speeds",
+                    "a line's speeds are |v| of a Gaussian, not the Maxwell-Boltzmann law in 2 or 3 dimensions it is compared with",
+                ),
+                (
+                    Measure::Viscosity,
+                    "viscosity",
+                    "the shear viscosity needs a second axis to shear across",
+                ),
+                (
+                    Measure::Conductivity,
+                    "conductivity",
+                    "equal hard rods only exchange velocities, so heat is carried ballistically and the conductivity has no finite value",
+                ),
+                (
+                    Measure::ShearStress,
+                    "shear-stress",
+                    "shear needs a second axis to slide the images across",
+                ),
+            ] {
+                if which.contains(&m) {
+                    return crate::user_error(format!(
+                        "--measure {name}: not on a line (1D): {why}"
+                    ));
+                }
+            }
+        }
         if which.contains(&Measure::Viscosity) {
             if let Some(why) = edmd_core::measure::viscosity::unsupported(sim) {
                 return crate::user_error(format!("--measure viscosity: {why}"));
@@ -449,8 +479,13 @@ impl<const D: usize> Measurements<D> {
             let est = |e: &edmd_core::measure::Estimate| json!({"value": e.value, "error": e.error, "blocks": e.blocks});
             let mut j = json!({"kT": s.kt, "virial": est(&s.virial),
                        "wall": s.wall.as_ref().map(est), "Z": est(&s.z), "Z_wall": s.z_wall.as_ref().map(est)});
-            // The box's measure: an area in 2D (the names stay as they were), a volume in 3D.
-            let size = if D == 3 { "volume" } else { "area" };
+            // The box's measure: an area in 2D (the names stay as they were), a volume in 3D,
+            // a length on a line.
+            let size = match D {
+                1 => "length",
+                3 => "volume",
+                _ => "area",
+            };
             j[size] = json!(s.area);
             j[format!("effective_{size}")] = json!(s.effective_area);
             out.insert("pressure".into(), j);

@@ -49,8 +49,23 @@ pub enum BoundaryArg {
     Walls,
 }
 
-/// A dimension: 2 or 3.
+/// A dimension for the commands that take rods on a line too (`edmd gen`, `edmd experiment
+/// eos`, `edmd bench`): 1, 2 or 3.
+pub fn parse_dim_with_rods(s: &str) -> Result<usize, String> {
+    match s.trim() {
+        "1" => Ok(1),
+        _ => parse_dim(s).map_err(|_| format!("the dimension must be 1, 2 or 3, found '{s}'")),
+    }
+}
+
+/// A dimension: 2 or 3. The commands that do not take rods refuse 1 here, by name.
 pub fn parse_dim(s: &str) -> Result<usize, String> {
+    if s.trim() == "1" {
+        return Err(
+            "this command takes 2 or 3 dimensions; rods on a line (--dim 1) are for gen, run, render, bench and experiment eos"
+                .into(),
+        );
+    }
     match s.trim() {
         "2" => Ok(2),
         "3" => Ok(3),

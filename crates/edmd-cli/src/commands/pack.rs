@@ -55,6 +55,11 @@ pub fn run(args: &PackArgs) -> Result<()> {
                                 sys.lines,
                             )
                         }
+                        edmd_io::AnyLoaded::One(_) => {
+                            return user_error(format!(
+                                "{path}: a 1D file (rods on a line): edmd pack compresses discs and spheres; rods fill a line of any packing below 1 as they are (edmd gen fluid --dim 1 --packing ETA)"
+                            ))
+                        }
                         edmd_io::AnyLoaded::Three(sys) => {
                             reactions = sys.reactions;
                             (

@@ -277,6 +277,26 @@ pub fn run(args: &RenderArgs) -> Result<()> {
                 draw_into(&if bonds { scene.with_bonds(sim) } else { scene }, pm)
             })
         }
+        edmd_io::AnyLoaded::One(sys) => {
+            if args.slice.is_some() || args.view.is_some() {
+                let what = if args.slice.is_some() {
+                    "--slice"
+                } else {
+                    "--view"
+                };
+                return user_error(format!(
+                    "render: {what} applies to 3D files, and this one is 1D (rods on a line)"
+                ));
+            }
+            if bonds {
+                return user_error(
+                    "render: --bonds draws the pairs of a stepped potential, which rods on a line (1D) do not take",
+                );
+            }
+            render_in(args, sys, kind, |sim, pm| {
+                edmd_draw::draw_line_into(&edmd_draw::SceneLine::capture(sim, colouring), pm)
+            })
+        }
         edmd_io::AnyLoaded::Three(sys) => {
             if args.slice.is_some() && args.view.is_some() {
                 return user_error(

@@ -112,6 +112,7 @@ pub fn run(args: &RunArgs) -> Result<()> {
     if let Some(bytes) = read_checkpoint(Path::new(&args.file))? {
         return match edmd_core::checkpoint_dim(&bytes) {
             Ok(3) => resume::<3>(args, &bytes),
+            Ok(1) => resume::<1>(args, &bytes),
             Ok(_) => resume::<2>(args, &bytes),
             Err(e) => user_error(format!("{}: {e}", args.file)),
         };
@@ -128,6 +129,7 @@ pub fn run(args: &RunArgs) -> Result<()> {
     match read_any(&args.file, format, order, args.frame)? {
         edmd_io::AnyLoaded::Two(sys) => run_in(args, sys),
         edmd_io::AnyLoaded::Three(sys) => run_in(args, sys),
+        edmd_io::AnyLoaded::One(sys) => run_in(args, sys),
     }
 }
 
@@ -776,12 +778,24 @@ fn measure_dir(args: &RunArgs) -> Option<&Path> {
     args.measure_dir.as_deref()
 }
 
+/// What the particles of a `dim`-dimensional system are called, one or many.
+fn particles(dim: usize, many: bool) -> &'static str {
+    match (dim, many) {
+        (1, false) => "rod",
+        (1, true) => "rods",
+        (3, false) => "sphere",
+        (3, true) => "spheres",
+        (_, false) => "disc",
+        (_, true) => "discs",
+    }
+}
+
 fn human(s: &Summary) -> String {
     let mut t = format!(
         "{}: {} {} ({} format) simulated to t = {}\nevents: {} disc-disc, {} wall, {} cell crossings ({} stale predictions discarded)\nspeed: {:.3e} collisions per second ({:.3} s in the event loop)\nenergy: relative change {:.3e}",
         s.file,
         s.n,
-        if s.dim == 3 { "spheres" } else { "discs" },
+        particles(s.dim, true),
         s.format,
         s.until,
         s.disc_collisions,
@@ -822,7 +836,7 @@ fn human(s: &Summary) -> String {
         t += &format!(
             "\nmoved into the box: {} {}(s)",
             s.discs_moved_into_box,
-            if s.dim == 3 { "sphere" } else { "disc" }
+            particles(s.dim, false)
         );
     }
     if s.frames > 0 {
@@ -882,11 +896,7 @@ fn progress_bar(until: f64) -> Option<indicatif::ProgressBar> {
 
 /// Fails if any disc overlaps another or leaves the box.
 pub fn check<const D: usize>(sim: &Simulation<D>) -> Result<()> {
-    let (one, many) = if D == 3 {
-        ("sphere", "spheres")
-    } else {
-        ("disc", "discs")
-    };
+    let (one, many) = (particles(D, false), particles(D, true));
     let o = sim.overlaps(OVERLAP_TOLERANCE);
     if let Some((i, j, ov)) = o.first {
         anyhow::bail!(

@@ -72,10 +72,19 @@ pub fn collision_rate_from_z(z: f64, dim: usize, sigma: f64, kt: f64, m: f64) ->
     2.0 * dim as f64 * (z - 1.0) * (kt / (PI * m)).sqrt() / sigma
 }
 
-/// The reference equation of state in `dim` dimensions: Henderson's for discs
-/// ([`henderson_z`]), Pieprzyk et al.'s for spheres ([`pieprzyk_z`]).
+/// The exact equation of state of hard rods on a line, `Z = P L / (N kT) = 1 / (1 - eta)`, with
+/// `eta = N sigma / L` the fraction of the line the rods cover (L. Tonks, Phys. Rev. 50, 955
+/// (1936)): each rod moves in the free length `L - N sigma` as if it were a point.
+pub fn tonks_z(eta: f64) -> f64 {
+    1.0 / (1.0 - eta)
+}
+
+/// The reference equation of state in `dim` dimensions: Tonks's for rods ([`tonks_z`], exact),
+/// Henderson's for discs ([`henderson_z`]), Pieprzyk et al.'s for spheres ([`pieprzyk_z`]).
 pub fn reference_z(eta: f64, dim: usize) -> f64 {
-    if dim == 3 {
+    if dim == 1 {
+        tonks_z(eta)
+    } else if dim == 3 {
         pieprzyk_z(eta)
     } else {
         henderson_z(eta)
@@ -83,9 +92,12 @@ pub fn reference_z(eta: f64, dim: usize) -> f64 {
 }
 
 /// The contact value of the pair distribution implied by [`reference_z`] through the virial
-/// relation `Z = 1 + 2 eta g` (discs) or `Z = 1 + 4 eta g` (spheres).
+/// relation `Z = 1 + eta g` (rods: `g = 1 / (1 - eta)`), `Z = 1 + 2 eta g` (discs) or
+/// `Z = 1 + 4 eta g` (spheres).
 pub fn contact_value(eta: f64, dim: usize) -> f64 {
-    if dim == 3 {
+    if dim == 1 {
+        tonks_z(eta)
+    } else if dim == 3 {
         (pieprzyk_z(eta) - 1.0) / (4.0 * eta)
     } else {
         henderson_contact(eta)
@@ -93,9 +105,11 @@ pub fn contact_value(eta: f64, dim: usize) -> f64 {
 }
 
 /// Number density of particles of diameter `sigma` at packing fraction `eta` in `dim`
-/// dimensions (`eta / (pi sigma^2 / 4)` or `eta / (pi sigma^3 / 6)`).
+/// dimensions (`eta / sigma`, `eta / (pi sigma^2 / 4)` or `eta / (pi sigma^3 / 6)`).
 pub fn number_density_in(eta: f64, sigma: f64, dim: usize) -> f64 {
-    if dim == 3 {
+    if dim == 1 {
+        eta / sigma
+    } else if dim == 3 {
         eta / (PI * sigma.powi(3) / 6.0)
     } else {
         number_density(eta, sigma)
@@ -172,6 +186,21 @@ pub fn enskog_mean_free_path_in(eta: f64, sigma: f64, dim: usize) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn tonks_equation_of_state_has_every_virial_coefficient_one_and_its_contact_value() {
+        // 1 / (1 - eta) = 1 + eta + eta^2 + ...: every reduced virial coefficient of hard rods
+        // is 1 (Tonks 1936), and Z = 1 + eta g(sigma) with g(sigma) = 1 / (1 - eta).
+        let eta = 0.01;
+        assert!((tonks_z(eta) - (1.0 + eta + eta * eta + eta.powi(3))).abs() < 2e-8);
+        assert_eq!(tonks_z(0.5), 2.0);
+        assert_eq!(reference_z(0.8, 1), tonks_z(0.8));
+        for eta in [0.2, 0.5, 0.8] {
+            let z = 1.0 + eta * contact_value(eta, 1);
+            assert!((z - tonks_z(eta)).abs() < 1e-12);
+        }
+        assert_eq!(number_density_in(0.5, 2.0, 1), 0.25);
+    }
 
     #[test]
     fn pieprzyk_equation_of_state_has_the_exact_virial_coefficients_and_its_published_values() {

@@ -697,9 +697,12 @@ fn settle<const D: usize>(
     Err(last)
 }
 
-/// Packing fraction: `sum pi r^2 / area` in 2D, `sum 4/3 pi r^3 / volume` in 3D.
+/// Packing fraction: `sum 2r / L` in 1D (the fraction of the line the rods cover),
+/// `sum pi r^2 / area` in 2D, `sum 4/3 pi r^3 / volume` in 3D.
 pub fn packing_of<const D: usize>(discs: &[Disc<D>], sim_box: &SimBox<D>) -> f64 {
-    let volume: f64 = if D == 3 {
+    let volume: f64 = if D == 1 {
+        discs.iter().map(|d| 2.0 * d.radius).sum()
+    } else if D == 3 {
         discs
             .iter()
             .map(|d| 4.0 / 3.0 * std::f64::consts::PI * d.radius.powi(3))

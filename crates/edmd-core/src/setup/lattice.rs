@@ -20,27 +20,34 @@ pub const CLOSE_PACKING: f64 = 0.906_899_682_117_108_9;
 /// Close packing fraction of spheres (FCC), `pi / (3 sqrt 2)`.
 pub const CLOSE_PACKING_3D: f64 = 0.740_480_489_693_061;
 
-/// Close packing fraction in `dim` dimensions (2 or 3).
+/// Close packing fraction in `dim` dimensions (1, 2 or 3): rods end to end cover the whole line.
 pub fn close_packing(dim: usize) -> f64 {
-    if dim == 3 {
+    if dim == 1 {
+        1.0
+    } else if dim == 3 {
         CLOSE_PACKING_3D
     } else {
         CLOSE_PACKING
     }
 }
 
-/// Volume of a `dim`-dimensional ball (2 or 3) of diameter `d`: `pi d^2 / 4` or `pi d^3 / 6`.
+/// Volume of a `dim`-dimensional ball (1, 2 or 3) of diameter `d`: `d` (a rod's length),
+/// `pi d^2 / 4` or `pi d^3 / 6`.
 pub fn ball_volume(d: f64, dim: usize) -> f64 {
-    if dim == 3 {
+    if dim == 1 {
+        d
+    } else if dim == 3 {
         std::f64::consts::PI * d * d * d / 6.0
     } else {
         0.25 * std::f64::consts::PI * d * d
     }
 }
 
-/// `x^(1/dim)` for `dim` 2 or 3 (`sqrt` and `cbrt`, exact where `powf` is not).
+/// `x^(1/dim)` for `dim` 1, 2 or 3 (`sqrt` and `cbrt`, exact where `powf` is not).
 pub(crate) fn root(x: f64, dim: usize) -> f64 {
-    if dim == 3 {
+    if dim == 1 {
+        x
+    } else if dim == 3 {
         x.cbrt()
     } else {
         x.sqrt()
@@ -82,20 +89,34 @@ pub(crate) fn fcc_sites(m: usize, boundary: Boundary) -> (Vec<[f64; 3]>, [f64; 3
     (sites, [size; 3])
 }
 
-/// [`lattice_fluid`] in `D` dimensions: discs on a triangular lattice in 2D (exactly
+/// [`lattice_fluid`] in `D` dimensions: rods (length 1, mass 1) evenly spaced on a line of
+/// length `n / packing` in 1D ([`rods`]), discs on a triangular lattice in 2D (exactly
 /// [`lattice_fluid`]), spheres (diameter 1, mass 1) on a face-centred cubic lattice in a cube
 /// in 3D, the first `n` sites filled layer by layer. Velocities Gaussian at `kT = 1`, zero total
 /// momentum.
 ///
 /// # Panics
-/// If `D` is not 2 or 3.
+/// If `D` is not 1, 2 or 3.
 pub fn lattice_fluid_in<const D: usize>(
     n: usize,
     packing: f64,
     boundary: Boundary,
     seed: u64,
 ) -> Result<(Vec<Disc<D>>, SimBox<D>), Error> {
-    assert!(D == 2 || D == 3, "lattices are made in 2 or 3 dimensions");
+    assert!(
+        (1..=3).contains(&D),
+        "lattices are made in 1, 2 or 3 dimensions"
+    );
+    if D == 1 {
+        let (discs, bx) = rods(n, packing, boundary, seed)?;
+        return Ok((
+            discs.iter().map(|d| d.with_dim()).collect(),
+            SimBox {
+                lengths: std::array::from_fn(|_| bx.lengths[0]),
+                boundaries: [boundary; D],
+            },
+        ));
+    }
     if D == 2 {
         let (discs, bx) = lattice_fluid(n, packing, boundary, seed)?;
         return Ok((
@@ -135,6 +156,44 @@ pub fn lattice_fluid_in<const D: usize>(
         SimBox {
             lengths: std::array::from_fn(|k| size[k] * a),
             boundaries: [boundary; D],
+        },
+    ))
+}
+
+/// `n` hard rods (length 1, mass 1) on a line of length `L = n / packing`, evenly spaced
+/// (centres at `(k + 1/2) L / n`, so a walled line keeps half a gap clear of each wall and a
+/// periodic one has equal gaps all round), with Gaussian velocities at `kT = 1`, zero total
+/// momentum. In one dimension the even spacing is already as good a start as any: rods never
+/// pass each other, so there is no lattice to melt, and a few collisions per rod bring the
+/// gaps to their equilibrium distribution.
+pub fn rods(
+    n: usize,
+    packing: f64,
+    boundary: Boundary,
+    seed: u64,
+) -> Result<(Vec<Disc<1>>, SimBox<1>), Error> {
+    if n == 0 {
+        return Err(Error::Invalid(
+            "the number of rods must be at least 1".into(),
+        ));
+    }
+    if !(packing > 0.0 && packing < 1.0) {
+        return Err(Error::Invalid(format!(
+            "packing fraction {packing} is outside (0, 1) (the fraction of the line the rods cover)"
+        )));
+    }
+    let length = n as f64 / packing;
+    let gap = length / n as f64;
+    let mut discs: Vec<Disc<1>> = (0..n)
+        .map(|k| Disc::new(Vector([(k as f64 + 0.5) * gap]), Vector::ZERO, 0.5))
+        .collect();
+    let mut rng = Pcg64Mcg::seed_from_u64(seed);
+    thermal_velocities(&mut discs, 1.0, &mut rng);
+    Ok((
+        discs,
+        SimBox {
+            lengths: [length],
+            boundaries: [boundary],
         },
     ))
 }

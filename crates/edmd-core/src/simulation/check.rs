@@ -11,6 +11,9 @@ impl<const D: usize> Simulation<D> {
     /// Overlapping pairs at the current time: those closer than `sigma (1 - tol)`, less the
     /// rounding allowance [`super::OVERLAP_ROUNDING`]` (L + (|v_i| + |v_j|) |t|)`.
     pub fn overlaps(&self, tol: f64) -> OverlapReport {
+        if let Some(s) = self.sheets.as_deref() {
+            return self.overlaps_in_order(s, tol);
+        }
         let mut report = OverlapReport::default();
         let now = self.now;
         let longest = self.sim_box.lengths.iter().copied().fold(0.0, f64::max);
@@ -60,6 +63,9 @@ impl<const D: usize> Simulation<D> {
     /// less [`super::OVERLAP_ROUNDING`]` (L + (|v_i| + |v_j|) |t|)`): a pair that is let
     /// through by no more than that is one the overlap check would not see either.
     pub(super) fn missed_contact(&self) -> Option<(usize, usize, f64, f64)> {
+        if let Some(s) = self.sheets.as_deref() {
+            return self.missed_contact_sheets(s);
+        }
         let t0 = self.event_time;
         let longest = self.sim_box.lengths.iter().copied().fold(0.0, f64::max);
         let looks_again = |i: usize, j: usize| {
@@ -114,6 +120,31 @@ impl<const D: usize> Simulation<D> {
             }
         }
         missed
+    }
+
+    /// [`Self::overlaps`] for rods that keep their order (self-gravity): each pair of
+    /// neighbours in order, whose gap from the left one to the right one (negative when out of
+    /// order) must be the contact distance less the same allowances.
+    fn overlaps_in_order(&self, s: &super::sheets::Sheets, tol: f64) -> OverlapReport {
+        let mut report = OverlapReport::default();
+        let now = self.now;
+        let longest = self.sim_box.lengths[0];
+        for w in s.order.windows(2) {
+            let (i, j) = (w[0] as usize, w[1] as usize);
+            let gap = self.position_of(j, now)[0] - self.position_of(i, now)[0];
+            let sigma = self.body[i].radius + self.body[j].radius;
+            let speeds =
+                self.velocity_of(i, now).norm2().sqrt() + self.velocity_of(j, now).norm2().sqrt();
+            let rounding = super::OVERLAP_ROUNDING * (longest + speeds * now.abs());
+            if gap < sigma * (1.0 - tol) - rounding {
+                report.count += 1;
+                let (a, b) = (i.min(j), i.max(j));
+                if report.first.is_none_or(|(fi, fj, _)| (b, a) < (fj, fi)) {
+                    report.first = Some((a, b, (sigma - gap) / sigma));
+                }
+            }
+        }
+        report
     }
 
     /// Discs outside the box (walled axes) at the current time, beyond `tol` relative to radius.

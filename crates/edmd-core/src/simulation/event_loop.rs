@@ -226,6 +226,7 @@ impl<const D: usize> Simulation<D> {
             || self.bath.is_some()
             || self.gravity.is_some()
             || self.shear.is_some()
+            || self.sheets.is_some()
     }
 
     /// Whether collisions follow a rule other than the hard cores' elastic one: reactions or
@@ -287,7 +288,7 @@ impl<const D: usize> Simulation<D> {
             }
             self.event_time = t;
             self.now = t;
-            if EXTRAS && self.gravity.is_some() {
+            if EXTRAS && (self.gravity.is_some() || self.sheets.is_some()) {
                 self.advance_in_field(i, t);
             }
             // The handlers change the state; the discs whose course changed (or whose cell
@@ -350,10 +351,11 @@ impl<const D: usize> Simulation<D> {
     /// flights were straight.
     #[inline(never)]
     fn advance_in_field(&mut self, i: usize, t: f64) {
-        let field = self.gravity;
         if let Pending::Disc { partner, .. } = self.body[i].pending {
+            let field = self.flight(partner as usize);
             self.body[partner as usize].advance_in(t, field);
         }
+        let field = self.flight(i);
         self.body[i].advance_in(t, field);
     }
 

@@ -116,6 +116,9 @@ impl<const D: usize> Simulation<D> {
         if self.shear.is_some() {
             return refuse("a field does not go with shear");
         }
+        if self.sheets.is_some() {
+            return refuse("a field does not go with self-gravity");
+        }
         if let Some(d) = &self.dissipation {
             grains_in_field(&d.restitution).map_err(Error::BadField)?;
         }
@@ -140,15 +143,24 @@ impl<const D: usize> Simulation<D> {
             .sum()
     }
 
-    /// Disc `i`'s position at `t` (extrapolated from its own clock, under the field if any).
-    #[inline]
-    pub(super) fn position_of(&self, i: usize, t: f64) -> Vector<D> {
-        self.body[i].position_in(t, self.gravity)
+    /// Disc `i`'s flight: the uniform field, its own under self-gravity, or none.
+    #[inline(always)]
+    pub(super) fn flight(&self, i: usize) -> Option<Gravity> {
+        match self.sheets.as_deref() {
+            Some(s) => Some(s.field(i)),
+            None => self.gravity,
+        }
     }
 
-    /// Disc `i`'s velocity at `t` (under the field if any).
+    /// Disc `i`'s position at `t` (extrapolated from its own clock, on its flight).
+    #[inline]
+    pub(super) fn position_of(&self, i: usize, t: f64) -> Vector<D> {
+        self.body[i].position_in(t, self.flight(i))
+    }
+
+    /// Disc `i`'s velocity at `t` (on its flight).
     #[inline]
     pub(super) fn velocity_of(&self, i: usize, t: f64) -> Vector<D> {
-        self.body[i].velocity_in(t, self.gravity)
+        self.body[i].velocity_in(t, self.flight(i))
     }
 }

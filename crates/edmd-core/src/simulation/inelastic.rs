@@ -142,6 +142,9 @@ impl<const D: usize> Simulation<D> {
         if self.chemistry.is_some() {
             return refuse("reaction rules");
         }
+        if self.sheets.is_some() {
+            return refuse("self-gravity");
+        }
         if self.multi.is_some() {
             return refuse("multi-disc collisions");
         }

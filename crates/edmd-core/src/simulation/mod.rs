@@ -42,6 +42,7 @@ mod reactions;
 #[cfg(target_arch = "x86_64")]
 mod scan_x86;
 mod shear;
+mod sheets;
 mod stall;
 mod steps;
 mod thermostat;
@@ -173,6 +174,8 @@ pub struct Simulation<const D: usize = 2> {
     gravity: Option<Gravity>,
     /// Lees-Edwards boundaries; `None`: plain periodic images (or walls).
     shear: Option<Box<shear::LeesEdwards>>,
+    /// One-dimensional self-gravity, with each rod's rank and acceleration; `None`: none.
+    sheets: Option<Box<sheets::Sheets>>,
     /// Event counts (last: the fields above keep their places as counts are added).
     stats: Stats,
 }
@@ -411,6 +414,7 @@ impl<const D: usize> Simulation<D> {
             dissipation: None,
             gravity: None,
             shear: None,
+            sheets: None,
         };
         sim.check_clock(t0)?;
         sim.set_portable_loop(false);
@@ -572,6 +576,9 @@ impl<const D: usize> Simulation<D> {
 
     /// Total kinetic energy `sum m v^2 / 2` at the current time.
     pub fn kinetic_energy(&self) -> f64 {
+        if self.sheets.is_some() {
+            return self.kinetic_energy_sheets();
+        }
         self.body
             .iter()
             .zip(&self.mass)
@@ -579,11 +586,18 @@ impl<const D: usize> Simulation<D> {
             .sum()
     }
 
+    /// [`Self::kinetic_energy`] under self-gravity, each disc on its own parabola.
+    fn kinetic_energy_sheets(&self) -> f64 {
+        (0..self.body.len())
+            .map(|i| 0.5 * self.mass[i] * self.velocity_of(i, self.now).norm2())
+            .sum()
+    }
+
     /// Total momentum `sum m v` at the current time.
     pub fn momentum(&self) -> Vector<D> {
         let mut p = Vector::ZERO;
-        for (b, &m) in self.body.iter().zip(&self.mass) {
-            p += b.velocity_in(self.now, self.gravity) * m;
+        for i in 0..self.body.len() {
+            p += self.velocity_of(i, self.now) * self.mass[i];
         }
         p
     }
@@ -616,8 +630,10 @@ impl<const D: usize> Simulation<D> {
     }
 
     fn replace_velocities(&mut self, mut f: impl FnMut(usize, Vector<D>) -> Vector<D>) {
-        let (now, field) = (self.now, self.gravity);
-        for (i, b) in self.body.iter_mut().enumerate() {
+        let now = self.now;
+        for i in 0..self.body.len() {
+            let field = self.flight(i);
+            let b = &mut self.body[i];
             b.advance_in(now, field);
             b.vel = f(i, b.vel);
             b.count = b.count.wrapping_add(1);
@@ -666,9 +682,7 @@ impl<const D: usize> Simulation<D> {
     /// a fastest speed of 4 it is 2^21, about 2 10^6.
     pub fn clock_limit(&self) -> f64 {
         // In a field a disc gains at most `sqrt(2 |g| L)` of speed falling across the box.
-        let fall = self
-            .gravity
-            .map_or(0.0, |f| 2.0 * f.g.abs() * self.sim_box.lengths[f.axis]);
+        let fall = self.fall_speed2();
         // Under shear, pairs across y close at up to the images' speed more.
         let slide = self.shear.as_deref().map_or(0.0, |s| s.speed.abs());
         let v_max = (self
@@ -712,6 +726,7 @@ impl<const D: usize> Simulation<D> {
             + self.steps.as_ref().map_or(0, |s| s.memory_bytes())
             + self.chemistry.as_ref().map_or(0, |c| c.memory_bytes())
             + self.dissipation.as_ref().map_or(0, |d| d.memory_bytes())
+            + self.sheets.as_ref().map_or(0, |s| s.memory_bytes())
     }
 }
 

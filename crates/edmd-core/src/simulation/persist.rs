@@ -31,8 +31,8 @@ use crate::frame::{self, Reader, Writer};
 /// The first bytes of every checkpoint.
 pub const MAGIC: &[u8; 8] = frame::RUN.magic;
 
-/// The checkpoint format this build writes. It reads this one, version 7 (which had no
-/// shear), version 6 (which had no restitution or field), version 5 (which had no reaction rules), version 4 (whose stepped
+/// The checkpoint format this build writes. It reads this one, version 8 (which had no
+/// self-gravity), version 7 (which had no shear), version 6 (which had no restitution or field), version 5 (which had no reaction rules), version 4 (whose stepped
 /// potentials kept their discs' cells by position, with no neighbour lists: such a run
 /// continues with its discs at the last event time and their lists made there, every event
 /// predicted afresh, which is a faithful continuation but not the bits a version-4 build would
@@ -426,6 +426,17 @@ impl<const D: usize> Simulation<D> {
                 w.f64(s.rate);
                 w.f64(s.origin);
                 w.f64(s.start);
+            }
+        }
+        // The self-gravity (format 9): its coupling and the discs in order.
+        match self.sheets.as_deref() {
+            None => w.u8(0),
+            Some(s) => {
+                w.u8(1);
+                w.f64(s.gravity.coupling);
+                for &i in &s.order {
+                    w.u32(i);
+                }
             }
         }
         w.bytes(extra);
@@ -892,6 +903,23 @@ impl<const D: usize> Simulation<D> {
         if version >= 8 && r.flag("shear")? {
             shear_read = Some((r.f64()?, r.f64()?, r.f64()?));
         }
+        let mut sheets_read = None;
+        if version >= 9 && r.flag("self-gravity")? {
+            let g = crate::state::SelfGravity { coupling: r.f64()? };
+            g.validate(D).or_else(|e| bad(e.to_string()))?;
+            let mut seen = vec![false; n];
+            let mut order = Vec::with_capacity(n.min(1 << 20));
+            for _ in 0..n {
+                let i = r.u32()?;
+                if i as usize >= n || std::mem::replace(&mut seen[i as usize], true) {
+                    return bad(format!(
+                        "self-gravity: disc {i} out of range or in order twice"
+                    ));
+                }
+                order.push(i);
+            }
+            sheets_read = Some((g, order));
+        }
         let extra = r.bytes()?.to_vec();
         if !r.at_end() {
             return bad("bytes after the end of the state");
@@ -900,6 +928,12 @@ impl<const D: usize> Simulation<D> {
         // lists' radius. A version-4 stepped run's grid (cells as wide as the outermost step,
         // discs filed by position) is made anew below, with its lists.
         let width = steps.as_ref().map_or(max_diameter, |s| s.list_radius);
+        // Under self-gravity, one cell (`sheets.rs`).
+        let width = if sheets_read.is_some() {
+            sim_box.lengths[0]
+        } else {
+            width
+        };
         let mut grid = CellGrid::new(&sim_box, n, if n == 0 { 1.0 } else { width })
             .map_err(|e| Error::Checkpoint(format!("cell grid: {e}")))?;
         if shells_v4.is_none() {
@@ -939,6 +973,8 @@ impl<const D: usize> Simulation<D> {
             .map(|b| 2.0 * b.radius)
             .fold(f64::INFINITY, f64::min);
         let far_contacts = super::predict::far_contacts(&grid, &sim_box, min_diameter);
+        let sheets =
+            sheets_read.map(|(g, order)| Box::new(super::sheets::Sheets::new(g, order, &mass)));
         let mut sim = Simulation {
             sim_box,
             rule,
@@ -975,12 +1011,16 @@ impl<const D: usize> Simulation<D> {
             dissipation,
             gravity,
             shear,
+            sheets,
         };
         if let Some(f) = sim.gravity {
             sim.gravity_fits(f).or_else(|e| bad(e.to_string()))?;
         }
         if sim.shear.is_some() {
             sim.shear_fits().or_else(|e| bad(e.to_string()))?;
+        }
+        if sim.sheets.is_some() {
+            sim.self_gravity_fits().or_else(|e| bad(e.to_string()))?;
         }
         if sim.chemistry.is_some() {
             sim.reactions_fit().or_else(|e| bad(e.to_string()))?;
@@ -1007,7 +1047,8 @@ impl<const D: usize> Simulation<D> {
             || sim.chemistry.as_ref().is_some_and(|c| c.heat != 0.0)
             || sim.dissipation.as_ref().is_some_and(|d| d.lost != 0.0)
             || sim.gravity.is_some()
-            || sim.shear.is_some();
+            || sim.shear.is_some()
+            || sim.sheets.is_some();
         if !(mean_mv2.is_finite() && (stepped || (mean_mv2 - now_mv2).abs() <= 1e-6 * now_mv2)) {
             return bad(format!(
                 "mean m v^2 {mean_mv2}, where the discs' kinetic energy gives {now_mv2}"

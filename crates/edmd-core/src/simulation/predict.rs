@@ -79,6 +79,9 @@ impl<const D: usize> Simulation<D> {
         if let Some(f) = self.gravity {
             return self.own_event_in_field(i, bi.time, bi.pos, bi.vel, f);
         }
+        if let Some(s) = self.sheets.as_deref() {
+            return self.own_event_sheets(i, bi.time, bi.pos, bi.vel, s);
+        }
         if self.shear.is_some() {
             return self.own_event_sheared(i, bi.time, bi.pos, bi.vel);
         }
@@ -201,6 +204,9 @@ impl<const D: usize> Simulation<D> {
     #[inline(always)]
     fn predict_with<const FAR: bool, const EXTRAS: bool>(&mut self, i: usize) {
         let t0 = self.event_time;
+        if EXTRAS && self.sheets.is_some() {
+            return self.predict_sheets(i);
+        }
         if EXTRAS && self.gravity.is_some() {
             return self.predict_in_field::<FAR>(i);
         }

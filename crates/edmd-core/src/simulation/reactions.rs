@@ -169,6 +169,11 @@ impl<const D: usize> Simulation<D> {
                 "rules do not go with inelastic collisions".into(),
             ));
         }
+        if self.sheets.is_some() {
+            return Err(Error::BadReaction(
+                "rules do not go with self-gravity".into(),
+            ));
+        }
         if self.multi.is_some() {
             return Err(Error::BadReaction(
                 "rules do not go with multi-disc collisions".into(),

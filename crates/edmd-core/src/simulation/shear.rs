@@ -271,6 +271,15 @@ impl<const D: usize> Simulation<D> {
         t: f64,
         mut f: impl FnMut(usize, Vector<D>, Vector<D>),
     ) {
+        if let Some(s) = self.sheets.as_deref() {
+            // Rods that keep their order meet only their neighbours in it.
+            for j in s.neighbours(i) {
+                if j != super::NO_PARTNER {
+                    f(j as usize, Vector::ZERO, Vector::ZERO);
+                }
+            }
+            return;
+        }
         let c = self.grid.cell_of(i);
         if let Some(s) = self.shear.as_deref() {
             let rows = self.grid.dims()[1];

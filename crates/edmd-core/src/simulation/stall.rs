@@ -227,7 +227,13 @@ impl<const D: usize> Simulation<D> {
         // mean_mv2 = 4 KE / n, so the fastest speed is sqrt(2 KE / m_min).
         // Under shear, pairs across y close at up to the images' speed more.
         let slide = self.shear.as_deref().map_or(0.0, |s| s.speed.abs());
-        let v_max = (self.mean_mv2 * n as f64 / (2.0 * m_min)).sqrt() + slide;
+        // Under self-gravity a rod gains speed from the potential energy.
+        let fall = if self.sheets.is_some() {
+            self.fall_speed2().sqrt()
+        } else {
+            0.0
+        };
+        let v_max = (self.mean_mv2 * n as f64 / (2.0 * m_min)).sqrt() + slide + fall;
         let span = STALL_CHUNK as f64 * CREEP_EVENTS_SPAN * sigma_min / v_max;
         if span.is_finite() && span > 0.0 {
             span

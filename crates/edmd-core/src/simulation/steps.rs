@@ -467,7 +467,8 @@ impl<const D: usize> Simulation<D> {
     }
 
     /// The potential energy: the sum over pairs of the energy of their shell (0 without a
-    /// stepped potential), plus the field's ([`Self::field_energy`]). Kinetic plus potential
+    /// stepped potential), plus the field's ([`Self::field_energy`]) and the self-gravity's
+    /// ([`Self::self_gravity_energy`]). Kinetic plus potential
     /// energy is conserved (without a thermostat, reactions' heat or restitution).
     pub fn potential_energy(&self) -> f64 {
         self.shells()
@@ -475,6 +476,7 @@ impl<const D: usize> Simulation<D> {
             .map(|(i, j, s)| self.pair_energy(i, j, s))
             .sum::<f64>()
             + self.field_energy()
+            + self.self_gravity_energy()
     }
 
     /// The energy of the pair `i`, `j` in shell `s`.

@@ -6,6 +6,7 @@ pub mod gravity;
 pub mod potential;
 pub mod reaction;
 pub mod restitution;
+pub mod self_gravity;
 pub mod shear;
 pub mod sim_box;
 
@@ -15,6 +16,7 @@ pub use gravity::Gravity;
 pub use potential::{PairSteps, Potential, Step, MAX_POTENTIAL_SPECIES, MAX_STEPS};
 pub use reaction::{species_colour, Reaction, Reactions, MAX_REACTION_SPECIES};
 pub use restitution::{Restitution, RestitutionLaw, BRIDGES_EXPONENT, MAX_RESTITUTION_SPECIES};
+pub use self_gravity::SelfGravity;
 pub use shear::Shear;
 pub use sim_box::{Boundary, SimBox};
 

@@ -1,11 +1,13 @@
-//! `edmd experiment eos`: the hard-disc (or, with `--dim 3`, hard-sphere) equation of state.
+//! `edmd experiment eos`: the hard-disc (or, with `--dim 3`, hard-sphere, with `--dim 1`
+//! hard-rod) equation of state.
 //!
 //! For each packing fraction eta: N discs in a periodic box, melted from a lattice, then the
 //! compressibility factor `Z = P A / (N kT)` from the collision virial
 //! (`Z = 1 + sum r_ij . J_ij / (D t N kT)`, Alder & Wainwright 1960) with an error bar from
 //! block averages, drawn against Henderson's equation of state
 //! `Z = (1 + eta^2 / 8) / (1 - eta)^2` (Mol. Phys. 30, 971 (1975)) for discs, or Pieprzyk et
-//! al.'s (Phys. Chem. Chem. Phys. 21, 6886 (2019)) for spheres. Each row also gives the
+//! al.'s (Phys. Chem. Chem. Phys. 21, 6886 (2019)) for spheres, or Tonks's exact
+//! `Z = 1 / (1 - eta)` (Phys. Rev. 50, 955 (1936)) for rods on a line. Each row also gives the
 //! measured collision rate per particle and the rate the measured Z implies through the exact
 //! relation `Gamma = 2 D (Z - 1) sqrt(kT / (pi m)) / sigma`.
 
@@ -24,11 +26,12 @@ use super::common::{
 /// Options of `edmd experiment eos`.
 #[derive(Debug, Args)]
 pub struct EosArgs {
-    /// Dimension: 2 (discs) or 3 (spheres).
-    #[arg(long, default_value_t = 2, value_parser = crate::args::parse_dim)]
+    /// Dimension: 2 (discs), 3 (spheres) or 1 (rods on a line).
+    #[arg(long, default_value_t = 2, value_parser = crate::args::parse_dim_with_rods)]
     pub dim: usize,
     /// Packing fractions, comma-separated (fluid: below 0.70 for discs, at most 0.50 for
-    /// spheres) [default: 0.05,0.1,0.2,0.3,0.4,0.5,0.6,0.65; spheres 0.05,0.1,0.2,0.3,0.4,0.45,0.5].
+    /// spheres, below 1 for rods) [default: 0.05,0.1,0.2,0.3,0.4,0.5,0.6,0.65; spheres
+    /// 0.05,0.1,0.2,0.3,0.4,0.45,0.5; rods 0.1,0.2,...,0.9].
     #[arg(long, value_delimiter = ',', allow_negative_numbers = true)]
     pub packing: Option<Vec<f64>>,
     /// Number of discs (spheres).
@@ -53,7 +56,9 @@ pub struct EosArgs {
     pub common: CommonArgs,
 }
 
-use edmd_core::measure::theory::{collision_rate_from_z, henderson_z as henderson, pieprzyk_z};
+use edmd_core::measure::theory::{
+    collision_rate_from_z, henderson_z as henderson, pieprzyk_z, tonks_z,
+};
 
 /// One packing fraction.
 #[derive(Debug, Serialize)]
@@ -72,6 +77,9 @@ pub struct Point {
     /// Pieprzyk et al.'s value (spheres).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub pieprzyk: Option<f64>,
+    /// Tonks's exact value (rods).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub tonks: Option<f64>,
     /// Collision rate per particle: measured, and implied by the measured Z.
     pub collision_rate: [f64; 2],
     /// Disc-disc collisions measured over.
@@ -99,13 +107,16 @@ pub struct Summary {
 pub fn run(args: &EosArgs) -> Result<()> {
     match args.dim {
         3 => run_in::<3>(args),
+        1 => run_in::<1>(args),
         _ => run_in::<2>(args),
     }
 }
 
 /// The reference equation of state of dimension `D`.
 fn reference<const D: usize>(eta: f64) -> f64 {
-    if D == 3 {
+    if D == 1 {
+        tonks_z(eta)
+    } else if D == 3 {
         pieprzyk_z(eta)
     } else {
         henderson(eta)
@@ -114,14 +125,19 @@ fn reference<const D: usize>(eta: f64) -> f64 {
 
 fn run_in<const D: usize>(args: &EosArgs) -> Result<()> {
     let packings = args.packing.clone().unwrap_or_else(|| {
-        if D == 3 {
+        if D == 1 {
+            vec![0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 0.9]
+        } else if D == 3 {
             vec![0.05, 0.1, 0.2, 0.3, 0.4, 0.45, 0.5]
         } else {
             vec![0.05, 0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.65]
         }
     });
     let args_packing = &packings;
-    if D == 3 {
+    if D == 1 {
+        // Rods are a fluid at any packing below 1 (no freezing in one dimension).
+        check_packings("eos", args_packing, 1.0)?;
+    } else if D == 3 {
         // Spheres are fluid up to 0.50 (inclusive: the generator makes 0.50).
         check_packings("eos", args_packing, 0.500_000_1)?;
     } else {
@@ -174,6 +190,7 @@ fn run_in<const D: usize>(args: &EosArgs) -> Result<()> {
             z_err: z.error,
             henderson: (D == 2).then(|| henderson(eta)),
             pieprzyk: (D == 3).then(|| pieprzyk_z(eta)),
+            tonks: (D == 1).then(|| tonks_z(eta)),
             collision_rate: [
                 collisions.summary().frequency.value,
                 collision_rate_from_z(z.value, D, 1.0, p.kt, 1.0),
@@ -184,7 +201,9 @@ fn run_in<const D: usize>(args: &EosArgs) -> Result<()> {
     }
     progress.finish();
     let interrupted = results.len() < args_packing.len();
-    let (law, law_name, what) = if D == 3 {
+    let (law, law_name, what) = if D == 1 {
+        ("tonks", "Tonks 1 / (1 - eta), exact", "rods")
+    } else if D == 3 {
         ("pieprzyk", "Pieprzyk et al. 2019", "spheres")
     } else {
         (
@@ -228,7 +247,11 @@ fn run_in<const D: usize>(args: &EosArgs) -> Result<()> {
             args.n
         ),
         "packing fraction eta",
-        "compressibility factor Z = PV / (N kT)",
+        if D == 1 {
+            "compressibility factor Z = PL / (N kT)"
+        } else {
+            "compressibility factor Z = PV / (N kT)"
+        },
     )
     .with(Series::line(law_name, curve))
     .with(Series::error_bars(
@@ -240,7 +263,11 @@ fn run_in<const D: usize>(args: &EosArgs) -> Result<()> {
     let mut human = format!(
         "equation of state, {} {what}, periodic box:\n  packing        Z     error  {:>9}  deviation  collision rate (from Z)\n",
         args.n,
-        if D == 3 { "Pieprzyk" } else { "Henderson" }
+        match D {
+            1 => "Tonks",
+            3 => "Pieprzyk",
+            _ => "Henderson",
+        }
     );
     for p in &results {
         let r = reference::<D>(p.packing);

@@ -16,6 +16,7 @@ pub mod maxwell;
 pub mod mfp;
 pub mod reaction;
 pub mod reversibility;
+pub mod sheets;
 pub mod shoulder;
 pub mod square_well;
 pub mod viscosity;
@@ -62,6 +63,10 @@ pub enum Experiment {
     Reaction(reaction::ReactionArgs),
     /// Run forward, reverse the velocities, run back: how far from the start do the discs land?
     Reversibility(reversibility::ReversibilityArgs),
+    /// One-dimensional self-gravitating sheets from a water bag: the virial theorem on time
+    /// averages, the slow relaxation as a phase-plane movie, and the density in a heat bath
+    /// against the isothermal sheet (Spitzer's sech^2).
+    Sheets(sheets::SheetsArgs),
     /// The square-shoulder model (Young and Alder): the isostructural solid-solid transition
     /// as a loop or plateau of the pressure against density, and the exact second virial
     /// coefficient at low density.
@@ -96,6 +101,7 @@ pub fn run(which: &Experiment) -> Result<()> {
         Experiment::Mfp(a) => mfp::run(a),
         Experiment::Reaction(a) => reaction::run(a),
         Experiment::Reversibility(a) => reversibility::run(a),
+        Experiment::Sheets(a) => sheets::run(a),
         Experiment::Shoulder(a) => shoulder::run(a),
         Experiment::SquareWell(a) => square_well::run(a),
         Experiment::Viscosity(a) => viscosity::run(a),
