@@ -18,7 +18,7 @@ use crate::events::Pending;
 use crate::math::Vector;
 use crate::predict::interval::interval_exit_accel_or_inf;
 use crate::schedule::EventQueue;
-use crate::state::{Gravity, SelfGravity, SimBox};
+use crate::state::{Gravity, SelfGravity};
 
 use super::{Simulation, NO_PARTNER};
 
@@ -112,7 +112,7 @@ impl<const D: usize> Simulation<D> {
             });
             Box::new(Sheets::new(g, order, &self.mass))
         });
-        self.grid = self.sheets_grid(&self.sim_box, self.sheets.is_some())?;
+        self.grid = self.sheets_grid(self.sheets.is_some())?;
         self.file_all_in_grid();
         let min_diameter = self
             .body
@@ -127,20 +127,16 @@ impl<const D: usize> Simulation<D> {
 
     /// The grid: one cell under self-gravity (its predictions never look at cells), else cells
     /// as wide as the largest diameter.
-    pub(super) fn sheets_grid(
-        &self,
-        sim_box: &SimBox<D>,
-        sheets: bool,
-    ) -> Result<CellGrid<D>, Error> {
+    fn sheets_grid(&self, sheets: bool) -> Result<CellGrid<D>, Error> {
         let n = self.body.len();
         let width = if sheets {
-            sim_box.lengths[0]
+            self.sim_box.lengths[0]
         } else if n == 0 {
             1.0
         } else {
             self.body.iter().map(|b| 2.0 * b.radius).fold(0.0, f64::max)
         };
-        CellGrid::new(sim_box, n, width)
+        CellGrid::new(&self.sim_box, n, width)
     }
 
     /// Refuses self-gravity with what it does not go with.

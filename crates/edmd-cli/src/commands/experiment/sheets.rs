@@ -227,6 +227,14 @@ fn mean(x: &[f64]) -> f64 {
     x.iter().sum::<f64>() / x.len().max(1) as f64
 }
 
+/// The means of `f` over [`BLOCKS`] runs of consecutive samples (the last one holding the
+/// remainder).
+fn block_means(x: &[f64], f: impl Fn(f64) -> f64) -> Vec<f64> {
+    x.chunks((x.len() / BLOCKS).max(1))
+        .map(|c| f(mean(c)))
+        .collect()
+}
+
 /// The isolated run: virial ratio, energy, the movie and the figure.
 fn isolated(args: &SheetsArgs, dir: &Path, files: &mut Vec<PathBuf>) -> Result<Option<Row>> {
     let mut sim = water_bag(args)?;
@@ -257,12 +265,10 @@ fn isolated(args: &SheetsArgs, dir: &Path, files: &mut Vec<PathBuf>) -> Result<O
     files.push(gif_path);
     let half = kin.len() / 2;
     let (ratio, ratio_error) = virial(&kin[half..], &pot[half..]);
-    let kt_blocks = |x: &[f64]| -> (f64, f64) {
-        let per = (x.len() / BLOCKS).max(1);
-        let b: Vec<f64> = x.chunks(per).map(mean).collect();
-        (mean(x), block_error(&b))
-    };
-    let (k_mean, k_error) = kt_blocks(&kin[half..]);
+    let (k_mean, k_error) = (
+        mean(&kin[half..]),
+        block_error(&block_means(&kin[half..], |k| k)),
+    );
     let n = args.n as f64;
     let csv = dir.join("sheets-virial.csv");
     write_csv(
@@ -356,12 +362,11 @@ fn heat_bath(args: &SheetsArgs, dir: &Path, files: &mut Vec<PathBuf>) -> Result<
     }
     progress.finish();
     let (ratio, ratio_error) = virial(&kin, &pot);
-    let per = (kin.len() / BLOCKS).max(1);
-    let kt_b: Vec<f64> = kin.chunks(per).map(|c| 2.0 * mean(c) / n).collect();
+    let kt_b = block_means(&kin, |k| 2.0 * k / n);
     let (kt, kt_error) = (2.0 * mean(&kin) / n, block_error(&kt_b));
     // x0 from the variance: pi^2 x0^2 / 12.
     let x0_of = |v: f64| (12.0 * v).sqrt() / std::f64::consts::PI;
-    let x0_b: Vec<f64> = var.chunks(per).map(|c| x0_of(mean(c))).collect();
+    let x0_b = block_means(&var, x0_of);
     let (x0, x0_error) = (x0_of(mean(&var)), block_error(&x0_b));
     let (x0_theory, x0_theory_error) = (2.0 * kt, 2.0 * kt_error);
     // The profile: density per unit length, against Spitzer's with the measured kT.
