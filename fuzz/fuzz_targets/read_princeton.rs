@@ -1,7 +1,7 @@
 //! The Princeton reader with edmd's directives, 1D, 2D and 3D: the first byte picks the column order
 //! and the entry point (`princeton::parse` or `parse_any`), the rest is the file. Any text gives
 //! a system or an error naming a line inside the file, never a panic; a system read is written
-//! back and read again unchanged (its reaction rules to the bit), and the engine builds or
+//! back and read again unchanged (its reaction rules to the bit, a ring with its offset), and the engine builds or
 //! refuses it without a panic, taking every reaction rule the reader accepted.
 #![no_main]
 
@@ -19,12 +19,13 @@ fn round_trip<const D: usize>(sys: &LoadedSystem<D>, order: ColumnOrder, text: &
         gravity: sys.gravity,
         shear: sys.shear,
     };
-    princeton::write_full(
+    princeton::write_full_ring(
         &mut out,
         &sys.discs,
         &sys.sim_box,
         &sys.barriers,
         interactions,
+        sys.ring,
         order,
         sys.time,
     )
@@ -40,6 +41,7 @@ fn round_trip<const D: usize>(sys: &LoadedSystem<D>, order: ColumnOrder, text: &
     assert_eq!(again.restitution, sys.restitution);
     assert_eq!(again.gravity, sys.gravity);
     assert_eq!(again.shear, sys.shear);
+    assert_eq!(again.ring, sys.ring);
     for (a, b) in again.reactions.iter().zip(&sys.reactions) {
         let bits =
             |r: &edmd_core::Reaction| [r.activation, r.probability, r.heat].map(f64::to_bits);

@@ -727,7 +727,18 @@ pub fn check_loaded<const D: usize>(sys: &edmd_io::LoadedSystem<D>, text: &str) 
                 Err(Error::BadShear(m)) if !m.contains("overlap") => {
                     panic!("shear the reader accepted: {m}")
                 }
-                other => other.map(|()| sim),
+                Err(e) => Err(e),
+                // A ring (its shear set first, at the file's offset, as `edmd run` sets it) is
+                // refused only where the slid images overlap a disc or the patch is too
+                // small for its particles.
+                Ok(()) => match sim.set_ring(sys.ring) {
+                    Err(Error::BadRing(m))
+                        if !(m.contains("overlap") || m.contains("too small")) =>
+                    {
+                        panic!("a ring the reader accepted: {m}")
+                    }
+                    other => other.map(|()| sim),
+                },
             }
         })
     };

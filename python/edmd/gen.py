@@ -22,6 +22,7 @@ Example::
     sim = edmd.gen.fluid(n=500, packing=0.3, restitution=0.9, seed=5)   # a granular gas
     sim = edmd.gen.fluid(n=500, packing=0.3, gravity=-1.0, seed=6)      # a column in a field
     sim = edmd.gen.fluid(n=500, packing=0.3, shear=0.2, seed=7)         # in simple shear flow
+    sim = edmd.gen.ring(n=400, tau=0.25, restitution={"all": {"bridges": 0.01}})  # a ring patch
 """
 
 from edmd import _check
@@ -30,7 +31,7 @@ from edmd._edmd import _generate as _compiled_generate
 # The options whose values are numbers, whole numbers, text and flags (`edmd gen`'s).
 _REAL = ("radius", "speed", "mass", "kt", "packing", "angle", "impact", "region", "big_radius",
          "big_mass", "size_ratio", "fraction_large", "spread", "well", "shoulder", "depth",
-         "gravity", "shear")
+         "gravity", "shear", "tau", "omega", "dispersion", "height")
 
 
 def _generate(kind, **options):
@@ -215,4 +216,31 @@ def mixture(*, n=None, packing=None, dim=2, boundary=None, size_ratio=None,
         "mixture", dim=dim, seed=seed, n=n, packing=packing, boundary=boundary,
         size_ratio=size_ratio, fraction_large=fraction_large, spread=spread, rule=rule,
         multi=multi, restitution=restitution, gravity=gravity, shear=shear,
+    )
+
+
+def ring(*, n=None, tau=None, omega=None, dispersion=None, height=None, dim=3, seed=1,
+         rule="elastic", multi=False, restitution=None):
+    """A patch of a planetary ring (``edmd gen ring``): ``n`` equal particles (400 when None)
+    of radius 0.5 (diameter 1) and mass 1 at random in a square patch, periodic along x (the
+    orbit) and y (radial), at dynamical optical depth ``tau`` (``n pi r^2 / (L_x L_y)``, 0.25
+    when None; at most 0.5 in 2D and 2 in 3D), with ``dim=3`` (the default) a box ``height``
+    diameters high (60 when None) between walls along z. The velocities are the Keplerian
+    flow ``-1.5 * omega * (y - L_y / 2)`` along x plus Gaussian deviations of ``dispersion``
+    times ``omega`` times the diameter per axis (2 when None), and the simulation is a ring
+    patch at orbital frequency ``omega`` (1 when None): ``sim.ring`` is ``omega``, as after
+    ``sim.set_ring(omega)``.
+
+    ``restitution`` makes collisions inelastic, as ``Simulation.set_restitution`` takes it; a
+    constant coefficient below 1 needs the TC model (``{"all": e, "tc": t}``, t > 0, e.g.
+    ``1e-3 / omega``), Bridges' law (``{"all": {"bridges": v_c}}``) none.
+
+    >>> patch = edmd.gen.ring(n=400, tau=0.25, restitution={"all": 0.5, "tc": 1e-3}, seed=1)
+    >>> patch.ring
+    1.0
+    >>> flat = edmd.gen.ring(n=300, dim=2, restitution={"all": {"bridges": 0.01}})
+    """
+    return _generate(
+        "ring", dim=dim, seed=seed, n=n, tau=tau, omega=omega, dispersion=dispersion,
+        height=height, rule=rule, multi=multi, restitution=restitution,
     )

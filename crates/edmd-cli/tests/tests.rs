@@ -18,6 +18,8 @@ mod limits;
 mod pack;
 mod particles;
 mod render;
+mod ring;
+mod ring_files;
 mod rods;
 mod run;
 mod shear;

@@ -125,6 +125,11 @@ pub enum Error {
     /// dimension other than 1, a periodic line, or self-gravity with what it does not go with.
     #[error("self-gravity: {0}")]
     BadSelfGravity(String),
+    /// A ring patch that cannot be: an orbital frequency not finite or not above 0, fewer
+    /// than two dimensions, a box without the shearing-periodic axes, or a ring with what it
+    /// does not go with.
+    #[error("ring: {0}")]
+    BadRing(String),
     /// A time beyond what the clock resolves for these discs (see
     /// [`crate::Simulation::clock_limit`]).
     #[error(

@@ -156,4 +156,8 @@ pub(crate) enum Pending {
     Relist,
     /// The end of the shear's epoch: its scan across the sliding boundary made again.
     Slide,
+    /// A ring's disc filed again in the grid before it strays out of its cell's margin.
+    Refile,
+    /// A ring's disc predicted again where a contact search stopped unsettled.
+    Recheck,
 }

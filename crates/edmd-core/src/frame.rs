@@ -29,8 +29,8 @@ pub(crate) struct Kind {
 /// A run's checkpoint (`edmd run`).
 pub(crate) const RUN: Kind = Kind {
     magic: b"EDMDCKPT",
-    version: 9,
-    older: &[1, 2, 3, 4, 5, 6, 7, 8],
+    version: 10,
+    older: &[1, 2, 3, 4, 5, 6, 7, 8, 9],
     name: "a run checkpoint (edmd run continues it)",
     min_dim: 1,
 };

@@ -49,6 +49,6 @@ pub use simulation::{
 };
 pub use state::{
     species_colour, Barrier, Boundary, Colour, Demon, Disc, Gravity, PairSteps, Potential,
-    Reaction, Reactions, Restitution, RestitutionLaw, SelfGravity, Shear, SimBox, Step, System,
-    MAX_REACTION_SPECIES,
+    Reaction, Reactions, Restitution, RestitutionLaw, Ring, SelfGravity, Shear, SimBox, Step,
+    System, MAX_REACTION_SPECIES,
 };

@@ -109,25 +109,25 @@ fn restarts_are_exact_for_spheres() {
 // potential and the thermostat, a byte each when there are none; version 5 changed only
 // the stepped potential's section; version 6 added the reaction rules, a byte when there are
 // none; version 7 the restitution and the field, a byte each; version 8 the shear, a byte;
-// version 9 the self-gravity, a byte.)
+// version 9 the self-gravity, a byte; version 10 the ring, a byte.)
 #[test]
 fn version_1_checkpoints_are_still_read() {
     let discs = random_discs(6, 10.0, 0.3, 0.5, true, 7);
     let mut sim = Simulation::new(&discs, SimBox::walls([10.0, 10.0]), Options::default()).unwrap();
     sim.run_until(2.0, &mut ());
     let v2 = sim.to_checkpoint(b"options");
-    assert_eq!(CHECKPOINT_VERSION, 9);
+    assert_eq!(CHECKPOINT_VERSION, 10);
     // Payload end: ..., the count (8), the chunk's time (8) and events (8), no stall (1), no
     // stepped potential (1) and no thermostat (1, both from version 4), no reaction rules (1,
     // from version 6), no restitution and no field (1 each, from version 7), no shear (1,
-    // from version 8), no self-gravity (1, from version 9), the caller's bytes (a length, 8,
-    // and 7 bytes); then the CRC-32 (4).
-    let tail = 1 + 1 + 1 + 1 + 1 + 1 + 1 + 1 + 8 + 7 + 4;
+    // from version 8), no self-gravity (1, from version 9), no ring (1, from version 10), the
+    // caller's bytes (a length, 8, and 7 bytes); then the CRC-32 (4).
+    let tail = 1 + 1 + 1 + 1 + 1 + 1 + 1 + 1 + 1 + 8 + 7 + 4;
     let cut = v2.len() - tail - 16;
     let mut v1 = [
         &v2[..cut],
         &v2[cut + 16..cut + 17],
-        &v2[cut + 24..v2.len() - 4],
+        &v2[cut + 25..v2.len() - 4],
     ]
     .concat();
     v1[8..12].copy_from_slice(&1u32.to_le_bytes());
@@ -230,8 +230,8 @@ fn second_events_are_carried_checked_and_optional_in_older_checkpoints() {
     // Before the caller's bytes (8) and the CRC-32 (4): no stepped potential, no thermostat (a
     // byte each, from format 4), no reaction rules (a byte, from format 6), no restitution
     // and no field (a byte each, from format 7), no shear (a byte, from format 8), no
-    // self-gravity (a byte, from format 9).
-    let end = good.len() - 4 - 8 - 7;
+    // self-gravity (a byte, from format 9), no ring (a byte, from format 10).
+    let end = good.len() - 4 - 8 - 8;
     let at = end - 22;
     let second = |high: u8| [&7.5f64.to_le_bytes()[..], &[2, 0, high]].concat();
     assert_eq!(&good[at..end], [second(1), second(0)].concat());
@@ -260,7 +260,7 @@ fn second_events_are_carried_checked_and_optional_in_older_checkpoints() {
         "a collision with itself",
     );
     // Format 2 had no second events: read, it runs on as the same physics.
-    let v2 = at_version([&good[..at], &good[end + 7..]].concat(), 2);
+    let v2 = at_version([&good[..at], &good[end + 8..]].concat(), 2);
     let (mut old, _) = Simulation::<3>::from_checkpoint(&v2).unwrap();
     let (mut new, _) = Simulation::<3>::from_checkpoint(&good).unwrap();
     old.run_until(20.0, &mut ());

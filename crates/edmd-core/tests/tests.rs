@@ -15,6 +15,7 @@ mod pack;
 mod pack_checkpoint;
 mod physics;
 mod reactions;
+mod ring;
 mod rods;
 mod shear;
 mod sheets;

@@ -41,6 +41,7 @@ impl CourseSystem {
             restitution: None,
             gravity: None,
             shear: None,
+            ring: None,
         }
     }
 }

@@ -1208,6 +1208,7 @@ fn build<const D: usize>(
         restitution: None,
         gravity: None,
         shear: None,
+        ring: None,
     };
     (system, images)
 }

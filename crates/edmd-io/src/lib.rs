@@ -26,7 +26,7 @@ pub mod xyz;
 
 pub use text::ParseError;
 
-use edmd_core::{Barrier, Disc, Gravity, Potential, Reaction, Restitution, Shear, SimBox};
+use edmd_core::{Barrier, Disc, Gravity, Potential, Reaction, Restitution, Ring, Shear, SimBox};
 
 /// A system read from a file, with the line each disc came from (`D = 3` for spheres).
 #[derive(Clone, Debug, PartialEq)]
@@ -58,6 +58,11 @@ pub struct LoadedSystem<const D: usize = 2> {
     /// Lees-Edwards boundaries (`# edmd shear`; none: plain periodic or walled axes), with the
     /// images' offset at [`LoadedSystem::time`]. Only the Princeton format holds it.
     pub shear: Option<Shear>,
+    /// A patch of a planetary ring (`# edmd ring OMEGA [OFFSET]`; none: none). Its
+    /// Lees-Edwards boundaries are in [`LoadedSystem::shear`] (rate `-3/2 OMEGA`, the file's
+    /// offset), so that a reader sets that shear first and the ring then keeps its offset.
+    /// Only the Princeton format holds it.
+    pub ring: Option<Ring>,
 }
 
 /// How particles interact besides their hard cores, as the Princeton format's directives say
@@ -229,6 +234,38 @@ pub fn write_full<const D: usize>(
     format: Format,
     time: f64,
 ) -> std::io::Result<()> {
+    write_full_ring(
+        out,
+        discs,
+        sim_box,
+        barriers,
+        interactions,
+        None,
+        format,
+        time,
+    )
+}
+
+/// [`write_full`] of a patch of a planetary ring (`ring`; none: as [`write_full`]), which the
+/// Princeton format keeps as `# edmd ring OMEGA OFFSET` in place of the shear's line (the
+/// offset is `interactions.shear`'s); the course format has no place for one.
+#[allow(clippy::too_many_arguments)]
+pub fn write_full_ring<const D: usize>(
+    out: &mut impl std::io::Write,
+    discs: &[Disc<D>],
+    sim_box: &SimBox<D>,
+    barriers: &[Barrier],
+    interactions: Interactions,
+    ring: Option<Ring>,
+    format: Format,
+    time: f64,
+) -> std::io::Result<()> {
+    if format == Format::Course && ring.is_some() {
+        return Err(std::io::Error::new(
+            std::io::ErrorKind::InvalidInput,
+            "the course format has no place for a ring patch",
+        ));
+    }
     if format == Format::Course && !interactions.potential.is_hard() {
         return Err(std::io::Error::new(
             std::io::ErrorKind::InvalidInput,
@@ -272,8 +309,15 @@ pub fn write_full<const D: usize>(
             std::io::ErrorKind::InvalidInput,
             format!("the course format holds 2D systems only, not {D}D"),
         )),
-        Format::Princeton(order) => {
-            princeton::write_full(out, discs, sim_box, barriers, interactions, order, time)
-        }
+        Format::Princeton(order) => princeton::write_full_ring(
+            out,
+            discs,
+            sim_box,
+            barriers,
+            interactions,
+            ring,
+            order,
+            time,
+        ),
     }
 }

@@ -40,6 +40,17 @@
 //!     and y must be periodic; at most once, and not with a stepped potential, a field or
 //!     barriers. `edmd run` writes the offset it reached, so a written state continues the
 //!     same flow;
+//!   - `# edmd ring OMEGA [OFFSET]`: a patch of a planetary ring (see `edmd_core::Ring`):
+//!     particles fly under Hill's equations at the orbital frequency `OMEGA` (x along the
+//!     orbit, y radial, z vertical, about the box's centre), with Lees-Edwards boundaries at
+//!     the Keplerian shear rate `-3/2 OMEGA`, the images above shifted by `OFFSET` (in
+//!     `[0, LX)`, default 0) at the file's time. The velocities are the lab's, the Keplerian
+//!     flow `-3/2 OMEGA (y - LY / 2)` along x included. x and y must be periodic and, in 3D, z
+//!     must have walls (`# edmd boundary periodic periodic walls`); 2D and 3D files only, at
+//!     most once, and not with `# edmd shear` (the ring sets its own), a field, a stepped
+//!     potential or barriers; a constant restitution below 1 needs the TC model beside it
+//!     (`# edmd restitution tc T`), lest a cold patch collapse. `edmd run` writes the offset
+//!     it reached;
 //!   - `# edmd reaction A + B -> C + D [activation E] [probability P] [heat Q]`: a reaction
 //!     rule (see `edmd_core::Reaction` and [`crate::reaction`] for the grammar): a disc of
 //!     species `A` colliding with one of `B` with at least `E` of kinetic energy in their
@@ -62,8 +73,8 @@
 //!   field across a missing axis (a field along `x` is allowed).
 
 use edmd_core::{
-    Barrier, Boundary, Demon, Disc, Gravity, PairSteps, Potential, Reaction, Restitution, Shear,
-    SimBox, Step, Vector,
+    Barrier, Boundary, Demon, Disc, Gravity, PairSteps, Potential, Reaction, Restitution, Ring,
+    Shear, SimBox, Step, Vector,
 };
 
 use crate::text::{count, err, exact, expect_end, number, Lines};
@@ -263,6 +274,7 @@ pub fn parse_in<const D: usize>(
     }
     check_reactions(&d.reactions, &d.potential, &discs, d.time)?;
     check_shear(&d)?;
+    check_ring(&d)?;
     if let Some((line, f)) = d.gravity {
         if d.sim_box.is_periodic(f.axis) {
             return Err(err(
@@ -323,8 +335,88 @@ pub fn parse_in<const D: usize>(
         reactions: d.reactions.into_iter().map(|(_, r)| r).collect(),
         restitution: d.restitution.map(|(_, r)| r),
         gravity: d.gravity.map(|(_, f)| f),
-        shear: d.shear.map(|(_, s)| s),
+        // A ring's boundaries are a shear at the Keplerian rate, from the file's offset.
+        shear: match d.ring {
+            Some((_, r, offset)) => Some(Shear {
+                rate: r.shear_rate(),
+                offset,
+            }),
+            None => d.shear.map(|(_, s)| s),
+        },
+        ring: d.ring.map(|(_, r, _)| r),
     })
+}
+
+/// Refuses `# edmd ring` in a 1D file and beside what a ring patch does not go with: its own
+/// shear's line, a field, a stepped potential, barriers, x or y not periodic, z not walled
+/// (3D), a frequency that is not a finite number above 0 and an offset outside `[0, LX)`.
+fn check_ring<const D: usize>(d: &Directives<D>) -> Result<(), ParseError> {
+    let Some((line, ring, offset)) = d.ring else {
+        return Ok(());
+    };
+    if D < 2 {
+        return Err(err(
+            line,
+            "ring: a ring patch has a radial (y) axis, and a 1D file has none",
+        ));
+    }
+    if let Some((first, _)) = d.shear {
+        return Err(err(
+            line,
+            format!("ring does not go with '# edmd shear' (line {first}): the ring shears the patch at -3/2 OMEGA itself"),
+        ));
+    }
+    if let Some((first, _)) = d.gravity {
+        return Err(err(
+            line,
+            format!(
+                "ring does not go with gravity (line {first}): the ring has its own vertical pull"
+            ),
+        ));
+    }
+    if let Some((first, _)) = d.potential.first() {
+        return Err(err(
+            line,
+            format!("ring does not go with a stepped potential (line {first})"),
+        ));
+    }
+    if !d.barriers.is_empty() {
+        return Err(err(line, "ring does not go with barriers"));
+    }
+    if !(d.sim_box.is_periodic(0) && d.sim_box.is_periodic(1)) {
+        let hint = if D == 3 {
+            "'# edmd boundary periodic periodic walls'"
+        } else {
+            "'# edmd boundary periodic'"
+        };
+        return Err(err(
+            line,
+            format!("ring: a ring patch needs periodic x and y axes ({hint})"),
+        ));
+    }
+    if D == 3 && d.sim_box.is_periodic(2) {
+        return Err(err(
+            line,
+            "ring: a ring patch needs walls along z ('# edmd boundary periodic periodic walls')",
+        ));
+    }
+    if let Some((first, r)) = &d.restitution {
+        if crate::restitution::collapses_without_tc(r) {
+            return Err(err(
+                line,
+                format!("ring with a constant restitution below 1 (line {first}) needs the TC model ('# edmd restitution tc T', T > 0; 'tc 0.001' for OMEGA 1), or a cold dense patch collapses; Bridges' law needs none"),
+            ));
+        }
+    }
+    ring.validate(D).map_err(|e| err(line, e.to_string()))?;
+    let lx = d.sim_box.lengths[0];
+    if !(0.0..lx).contains(&offset) {
+        return Err(err(
+            line,
+            format!("ring: the offset must be in [0, L_x) = [0, {lx}), found {offset}"),
+        ));
+    }
+    Ok(())
 }
 
 /// Refuses `# edmd shear` beside what Lees-Edwards boundaries do not go with: a field, a
@@ -388,6 +480,8 @@ struct Directives<const D: usize> {
     gravity: Option<(usize, Gravity)>,
     /// The shear, with its line.
     shear: Option<(usize, Shear)>,
+    /// The ring and its images' offset, with its line.
+    ring: Option<(usize, Ring, f64)>,
 }
 
 /// Interprets the `# edmd` directives.
@@ -400,6 +494,8 @@ fn directives<const D: usize>(list: &[(usize, Vec<&str>)]) -> Result<Directives<
     let mut seen_gravity: Option<usize> = None;
     let mut shear: Option<(usize, Shear)> = None;
     let mut seen_shear: Option<usize> = None;
+    let mut ring: Option<(usize, Ring, f64)> = None;
+    let mut seen_ring: Option<usize> = None;
     let mut parts: Vec<(usize, crate::restitution::Part)> = Vec::new();
     let mut barriers = Vec::new();
     let mut time = 0.0;
@@ -524,6 +620,18 @@ fn directives<const D: usize>(list: &[(usize, Vec<&str>)]) -> Result<Directives<
                 };
                 shear = Some((line, Shear { rate, offset }));
             }
+            Some("ring") => {
+                once(&mut seen_ring, "ring")?;
+                let (omega, offset) = match &w[1..] {
+                    [omega] => (number(line, omega, "OMEGA")?, 0.0),
+                    [omega, offset] => (
+                        number(line, omega, "OMEGA")?,
+                        number(line, offset, "OFFSET")?,
+                    ),
+                    _ => return Err(err(line, "expected 'ring OMEGA [OFFSET]'")),
+                };
+                ring = Some((line, Ring { omega }, offset));
+            }
             Some("restitution") => {
                 let (_, r) = restitution.get_or_insert_with(|| (line, Restitution::default()));
                 let part = crate::restitution::parse(&w[1..], r)
@@ -551,7 +659,7 @@ fn directives<const D: usize>(list: &[(usize, Vec<&str>)]) -> Result<Directives<
             Some(other) => {
                 return Err(err(
                     line,
-                    format!("unknown edmd directive '{other}' (dim, box, boundary, barrier, time, potential, reaction, restitution, gravity, shear)"),
+                    format!("unknown edmd directive '{other}' (dim, box, boundary, barrier, time, potential, reaction, restitution, gravity, shear, ring)"),
                 ))
             }
             None => return Err(err(line, "empty edmd directive")),
@@ -566,6 +674,7 @@ fn directives<const D: usize>(list: &[(usize, Vec<&str>)]) -> Result<Directives<
         restitution,
         gravity,
         shear,
+        ring,
     })
 }
 
@@ -777,6 +886,31 @@ pub fn write_full<const D: usize>(
     order: ColumnOrder,
     time: f64,
 ) -> std::io::Result<()> {
+    write_full_ring(
+        out,
+        discs,
+        sim_box,
+        barriers,
+        interactions,
+        None,
+        order,
+        time,
+    )
+}
+
+/// [`write_full`] of a ring patch (`ring`; none: as [`write_full`]): `# edmd ring OMEGA
+/// OFFSET`, the offset `interactions.shear`'s (0 without it), in place of the shear's line.
+#[allow(clippy::too_many_arguments)]
+pub fn write_full_ring<const D: usize>(
+    out: &mut impl std::io::Write,
+    discs: &[Disc<D>],
+    sim_box: &SimBox<D>,
+    barriers: &[Barrier],
+    interactions: Interactions,
+    ring: Option<Ring>,
+    order: ColumnOrder,
+    time: f64,
+) -> std::io::Result<()> {
     let potential = interactions.potential;
     writeln!(out, "{}", discs.len())?;
     if D != 2 {
@@ -839,7 +973,10 @@ pub fn write_full<const D: usize>(
             exact(f.g)
         )?;
     }
-    if let Some(s) = interactions.shear {
+    if let Some(r) = ring {
+        let offset = interactions.shear.map_or(0.0, |s| s.offset);
+        writeln!(out, "# edmd ring {} {}", exact(r.omega), exact(offset))?;
+    } else if let Some(s) = interactions.shear {
         writeln!(out, "# edmd shear {} {}", exact(s.rate), exact(s.offset))?;
     }
     for l in interactions
@@ -1438,6 +1575,115 @@ mod tests {
                 .unwrap_err()
                 .to_string();
             assert!(e.contains(want), "{e}");
+        }
+    }
+
+    /// `# edmd ring OMEGA [OFFSET]` gives the system its ring and the shear at the Keplerian
+    /// rate from the offset, and is written back (with the offset, in place of the shear's
+    /// line); every refusal names its line.
+    #[test]
+    fn ring_is_read_and_written_back() {
+        let text = "1\n# edmd dim 3\n# edmd box 8 8 30\n# edmd boundary periodic periodic walls\n# edmd ring 2 1.5\n1 1 15 0 0 0 .5 1 0 0 0\n";
+        let s = parse_in::<3>(text, ColumnOrder::default()).unwrap();
+        assert_eq!(s.ring, Some(Ring { omega: 2.0 }));
+        assert_eq!(
+            s.shear,
+            Some(Shear {
+                rate: -3.0,
+                offset: 1.5
+            })
+        );
+        let mut out = Vec::new();
+        let interactions = Interactions {
+            shear: s.shear.map(|x| Shear {
+                offset: 0.1 + 0.2,
+                ..x
+            }),
+            ..Interactions::HARD
+        };
+        write_full_ring(
+            &mut out,
+            &s.discs,
+            &s.sim_box,
+            &[],
+            interactions,
+            s.ring,
+            ColumnOrder::default(),
+            0.0,
+        )
+        .unwrap();
+        let written = std::str::from_utf8(&out).unwrap();
+        assert!(
+            written.contains("# edmd ring 2.0 0.30000000000000004\n"),
+            "{written}"
+        );
+        assert!(!written.contains("shear"), "{written}");
+        let back = parse_in::<3>(written, ColumnOrder::default()).unwrap();
+        assert_eq!(back.ring, s.ring);
+        assert_eq!(back.shear.map(|x| x.offset), Some(0.1 + 0.2));
+        // 2D, offset 0 by default.
+        let flat =
+            "1\n# edmd box 8 8\n# edmd boundary periodic\n# edmd ring 1\n1 1 0 0 .5 1 0 0 0\n";
+        let s2 = parse(flat, ColumnOrder::default()).unwrap();
+        assert_eq!(s2.shear.map(|x| (x.rate, x.offset)), Some((-1.5, 0.0)));
+        // The course format has no place for it.
+        let e = crate::write_full_ring(
+            &mut Vec::new(),
+            &s2.discs,
+            &s2.sim_box,
+            &[],
+            Interactions::HARD,
+            s2.ring,
+            Format::Course,
+            0.0,
+        )
+        .unwrap_err();
+        assert!(e.to_string().contains("ring patch"), "{e}");
+        let plane = "# edmd boundary periodic\n";
+        let column = "# edmd boundary periodic periodic walls\n";
+        for (dim, boundary, bad, want) in [
+            (2, plane, "# edmd ring 1\n# edmd ring 2\n", "line 4: a second '# edmd ring' line (the first is line 3)"),
+            (2, plane, "# edmd ring\n", "line 3: expected 'ring OMEGA [OFFSET]'"),
+            (2, plane, "# edmd ring 1 0 0\n", "line 3: expected 'ring OMEGA [OFFSET]'"),
+            (2, plane, "# edmd ring fast\n", "line 3: OMEGA is not a number: 'fast'"),
+            (2, plane, "# edmd ring inf\n", "line 3: OMEGA is not finite"),
+            (2, plane, "# edmd ring 1 nan\n", "line 3: OFFSET is not finite"),
+            (2, plane, "# edmd ring 0\n", "line 3: ring: the orbital frequency must be a finite number above 0"),
+            (2, plane, "# edmd ring -1\n", "line 3: ring: the orbital frequency must be a finite number above 0"),
+            (2, plane, "# edmd ring 1 -0.5\n", "line 3: ring: the offset must be in [0, L_x) = [0, 8)"),
+            (2, plane, "# edmd ring 1 8\n", "line 3: ring: the offset must be in [0, L_x)"),
+            (2, plane, "# edmd ring 1\n# edmd shear 1\n", "line 3: ring does not go with '# edmd shear' (line 4)"),
+            (2, plane, "# edmd ring 1\n# edmd potential 0 0 1.5 -1\n", "line 3: ring does not go with a stepped potential (line 4)"),
+            (2, plane, "# edmd ring 1\n# edmd barrier x 2\n", "line 3: ring does not go with barriers"),
+            (2, plane, "# edmd ring 1\n# edmd restitution 0.5\n", "line 3: ring with a constant restitution below 1 (line 4) needs the TC model"),
+            (2, "# edmd boundary periodic walls\n", "# edmd ring 1\n", "line 3: ring: a ring patch needs periodic x and y axes ('# edmd boundary periodic')"),
+            (2, "", "# edmd ring 1\n", "line 3: ring: a ring patch needs periodic x and y axes"),
+            (3, "# edmd boundary periodic\n", "# edmd ring 1\n", "line 3: ring: a ring patch needs walls along z"),
+            (3, "# edmd boundary periodic walls walls\n", "# edmd ring 1\n", "line 3: ring: a ring patch needs periodic x and y axes ('# edmd boundary periodic periodic walls')"),
+            (3, column, "# edmd ring 1\n# edmd gravity z -1\n", "line 3: ring does not go with gravity (line 4)"),
+            (1, "# edmd boundary periodic\n", "# edmd ring 1\n", "line 3: ring: a ring patch has a radial (y) axis, and a 1D file has none"),
+        ] {
+            let (head, disc) = match dim {
+                1 => ("# edmd dim 1\n# edmd box 8\n", "1 0 .1 1 0 0 0"),
+                2 => ("# edmd box 8 8\n", "1 1 0 0 .1 1 0 0 0"),
+                _ => ("# edmd dim 3\n# edmd box 8 8 8\n", "1 1 4 0 0 0 .1 1 0 0 0"),
+            };
+            // The ring's line is line 3 in each: the dimension's line, if any, goes after it.
+            let (first, rest) = head.split_at(head.find('\n').unwrap() + 1);
+            let text = if dim == 2 {
+                format!("1\n{first}{bad}{boundary}{disc}\n")
+            } else {
+                format!("1\n{first}{bad}{rest}{boundary}{disc}\n")
+            };
+            let e = match dim {
+                1 => parse_in::<1>(&text, ColumnOrder::default()).map(|_| ()),
+                2 => parse_in::<2>(&text, ColumnOrder::default()).map(|_| ()),
+                _ => parse_in::<3>(&text, ColumnOrder::default()).map(|_| ()),
+            }
+            .unwrap_err()
+            .to_string();
+            assert!(e.contains(want), "{text}: {e}");
+            assert!(!e.contains('\n'), "{e}");
         }
     }
 

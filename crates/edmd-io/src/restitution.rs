@@ -128,6 +128,15 @@ pub fn parse(words: &[&str], into: &mut Restitution) -> Result<Part, String> {
     }
 }
 
+/// Whether `r` has a constant coefficient below 1 (for every pair or some pair) without the TC
+/// model: on a ring patch, which a cold dense layer of such particles would reach, inelastic
+/// collapse (infinitely many collisions in a finite time). Bridges' law, elastic at low
+/// speeds, does not collapse.
+pub fn collapses_without_tc(r: &Restitution) -> bool {
+    let below_1 = |l: &RestitutionLaw| matches!(*l, RestitutionLaw::Constant(e) if e < 1.0);
+    r.tc <= 0.0 && (below_1(&r.all) || r.pairs.iter().any(|p| below_1(&p.2)))
+}
+
 /// The directive lines' words (without `# edmd restitution`) that give `r` back, leaving out
 /// what is as by default.
 pub fn lines(r: &Restitution) -> Vec<String> {
@@ -148,12 +157,31 @@ pub fn lines(r: &Restitution) -> Vec<String> {
     if r.tc != 0.0 {
         out.push(format!("tc {}", crate::text::exact(r.tc)));
     }
+    // Restitution that is all defaults (`# edmd restitution tc 0` alone) is still
+    // restitution: one line keeps it, so that it reads back as it was.
+    if out.is_empty() {
+        out.push(law(r.all));
+    }
     out
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Regression (found by fuzzing the Princeton reader, `fuzz/corpus/read_princeton/
+    /// read_princeton-elastic-restitution-written-back`): a file whose only restitution line
+    /// was `tc 0` read as elastic restitution, which was written back as no line at all, so
+    /// the state written read back without restitution.
+    #[test]
+    fn restitution_of_defaults_alone_is_written_back() {
+        let mut r = Restitution::default();
+        parse(&["tc", "0"], &mut r).unwrap();
+        assert_eq!(lines(&r), vec!["1.0".to_string()]);
+        let mut back = Restitution::default();
+        parse(&["1.0"], &mut back).unwrap();
+        assert_eq!(back, r);
+    }
 
     fn read(lines: &[&str]) -> Result<Restitution, String> {
         let mut r = Restitution::default();

@@ -15,6 +15,7 @@ mod pack;
 mod potential;
 mod reactions;
 mod restitution;
+mod ring;
 mod shear;
 mod state;
 
@@ -555,6 +556,12 @@ impl PySimulation {
     ///         `Simulation.shear` gives. The velocities are taken as given (add
     ///         `rate * (y - L_y / 2)` to the x velocities to start on the streaming profile).
     ///         Needs periodic x and y, binary collisions, no stepped potential and no field.
+    ///     ring: a patch of a planetary ring (None: none), as `set_ring` takes it: the orbital
+    ///         frequency omega. The velocities are taken as given (add
+    ///         `-1.5 * omega * (y - L_y / 2)` to the x velocities to start on the Keplerian
+    ///         flow). Needs periodic x and y (and walls along z in 3D), binary collisions, no
+    ///         stepped potential, no field and no `shear` (the ring shears at -1.5 omega
+    ///         itself).
     ///
     /// Raises:
     ///     TypeError: an argument that is not numbers (strings, complex numbers, booleans,
@@ -565,7 +572,8 @@ impl PySimulation {
     ///         species no disc has (the message starts "potential:"), reaction rules that
     ///         cannot be (the message starts "reactions:"), restitution that cannot be (the
     ///         message starts "restitution:"), a field that cannot be (the message starts
-    ///         "gravity"), shear that cannot be (the message starts "shear").
+    ///         "gravity"), shear that cannot be (the message starts "shear"), a ring that
+    ///         cannot be (the message starts "ring").
     ///
     /// >>> import numpy as np
     /// >>> sim = edmd.Simulation.from_arrays([[2.0, 5.0], [8.0, 5.0]], [[1.0, 0.0], [-1.0, 0.0]],
@@ -586,7 +594,7 @@ impl PySimulation {
     /// >>> flow = edmd.Simulation.from_arrays([[5.0, 2.0], [5.0, 8.0]], [[-0.3, 0.0], [0.3, 0.0]],
     /// ...                                    radii=0.5, box=(10.0, 10.0), shear=0.1)
     #[staticmethod]
-    #[pyo3(signature = (positions, velocities, radii, masses=None, r#box=None, boundary=None, species=None, rule=None, multi=None, allow_overlaps=None, potential=None, reactions=None, restitution=None, gravity=None, shear=None))]
+    #[pyo3(signature = (positions, velocities, radii, masses=None, r#box=None, boundary=None, species=None, rule=None, multi=None, allow_overlaps=None, potential=None, reactions=None, restitution=None, gravity=None, shear=None, ring=None))]
     #[allow(clippy::too_many_arguments)]
     fn from_arrays(
         positions: &Bound<'_, PyAny>,
@@ -604,6 +612,7 @@ impl PySimulation {
         restitution: Option<&Bound<'_, PyAny>>,
         gravity: Option<&Bound<'_, PyAny>>,
         shear: Option<&Bound<'_, PyAny>>,
+        ring: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<Self> {
         let input = arrays::Input::new(
             positions, velocities, radii, masses, r#box, boundary, species, potential,
@@ -631,8 +640,18 @@ impl PySimulation {
             Some(s) => shear::parse(s)?,
             None => None,
         };
-        /// The simulation of the arrays, with the rules, the field, the restitution and the
-        /// shear (in the order `edmd run` sets a file's).
+        let patch = match ring {
+            Some(r) => ring::parse(r, "ring")?,
+            None => None,
+        };
+        if patch.is_some() && sliding.is_some() {
+            return Err(value_error(
+                "ring: does not go with shear (the ring shears at -1.5 omega itself)",
+            ));
+        }
+        /// The simulation of the arrays, with the rules, the field, the restitution, the
+        /// shear and the ring (in the order `edmd run` sets a file's).
+        #[allow(clippy::too_many_arguments)]
         fn made<const D: usize>(
             input: &arrays::Input,
             opts: Options,
@@ -640,19 +659,45 @@ impl PySimulation {
             field: Option<gravity::Field>,
             restitution: Option<edmd_core::Restitution>,
             sliding: Option<shear::Sliding>,
+            patch: Option<edmd_core::Ring>,
         ) -> PyResult<State<D>> {
             let mut sim = shear::build::<D>(input, opts, sliding)?;
             reactions::apply(&mut sim, reactions, "reactions")?;
             gravity::apply(&mut sim, field)?;
             restitution::apply(&mut sim, restitution, "restitution")?;
             shear::apply(&mut sim, sliding)?;
+            ring::apply(&mut sim, patch, "ring")?;
             Ok(State::new(sim, Format::Princeton(ColumnOrder::RadiusMass)))
         }
         guarded("from_arrays", || {
             let inner = match input.dim {
-                3 => Inner::Three(made(&input, opts, reactions, field, restitution, sliding)?),
-                1 => Inner::One(made(&input, opts, reactions, field, restitution, sliding)?),
-                _ => Inner::Two(made(&input, opts, reactions, field, restitution, sliding)?),
+                3 => Inner::Three(made(
+                    &input,
+                    opts,
+                    reactions,
+                    field,
+                    restitution,
+                    sliding,
+                    patch,
+                )?),
+                1 => Inner::One(made(
+                    &input,
+                    opts,
+                    reactions,
+                    field,
+                    restitution,
+                    sliding,
+                    patch,
+                )?),
+                _ => Inner::Two(made(
+                    &input,
+                    opts,
+                    reactions,
+                    field,
+                    restitution,
+                    sliding,
+                    patch,
+                )?),
             };
             Ok(PySimulation { inner })
         })
@@ -1571,6 +1616,61 @@ impl PySimulation {
         )
     }
 
+    /// A patch of a planetary ring: None (none), or its orbital frequency omega, as `set_ring`
+    /// and `from_arrays(ring=...)` take it (`sim.set_ring(sim.ring)` changes nothing).
+    #[getter]
+    fn ring(slf: &Bound<'_, Self>) -> PyResult<Option<f64>> {
+        Ok(each!(&get(slf)?.inner, s => s.sim.ring().map(|r| r.omega)))
+    }
+
+    /// Makes the system a patch of a planetary ring from now on, as a file's `# edmd ring`
+    /// line does (the shearing sheet): x along the orbit, y radial, z vertical (3D), measured
+    /// from the box's centre; the particles fly under Hill's equations at orbital frequency
+    /// `omega`, and the images across y slide along x at the Keplerian shear rate
+    /// `-1.5 * omega` (`shear` is then `(-1.5 * omega, offset)`, the offset kept if the system
+    /// was sheared already, else 0). The velocities now are kept: to start on the Keplerian
+    /// flow add `-1.5 * omega * (y - L_y / 2)` to each x velocity (`edmd.gen.ring` does).
+    /// `peculiar_velocities` and `peculiar_kinetic_energy` are then taken relative to that
+    /// flow, and `ring_energy` (the tidal and vertical potential) is part of
+    /// `potential_energy`. Inelastic particles with a constant coefficient need the TC model
+    /// (`set_restitution({"all": e, "tc": t})`, t > 0) or a cold patch collapses; Bridges'
+    /// law needs none. Pickles and checkpoints carry the ring, so a restored simulation
+    /// continues bit for bit.
+    ///
+    /// Args:
+    ///     omega: the orbital frequency, a finite number above 0; None takes the ring (and its
+    ///         shear) away.
+    ///
+    /// Raises:
+    ///     TypeError, ValueError: a bad argument, named in the message ("omega: ..."): not a
+    ///         finite number above 0; a ring in 1D, without periodic x and y, with periodic z
+    ///         (3D), beside a field, a stepped potential, barriers or multi-disc collisions;
+    ///         another frequency while a ring is set (set_ring(None) first). A refused call
+    ///         changes nothing.
+    ///
+    /// >>> sim = edmd.gen.ring(n=300, seed=1)
+    /// >>> sim.ring
+    /// 1.0
+    /// >>> sim.set_ring(None)
+    /// >>> sim.set_ring(1.0)
+    #[pyo3(signature = (omega))]
+    fn set_ring(slf: &Bound<'_, Self>, omega: &Bound<'_, PyAny>) -> PyResult<()> {
+        let patch = ring::parse(omega, "omega")?;
+        let mut this = get_mut(slf)?;
+        guarded(
+            "set_ring",
+            || each!(&mut this.inner, s => ring::apply(&mut s.sim, patch, "omega")),
+        )
+    }
+
+    /// The ring's potential energy now, `sum m (-1.5 omega^2 y^2 + omega^2 z^2 / 2)` with y
+    /// and z from the patch's centre (0.0 without a ring): the tidal and vertical potential of
+    /// Hill's equations. It is part of `potential_energy`.
+    #[getter]
+    fn ring_energy(slf: &Bound<'_, Self>) -> PyResult<f64> {
+        Ok(each!(&get(slf)?.inner, s => s.sim.ring_energy()))
+    }
+
     /// Velocities relative to the streaming profile, `v - (rate * (y - L_y / 2), 0)`: (N, dim)
     /// float64; the velocities themselves without shear.
     #[getter]
@@ -1727,7 +1827,9 @@ impl PySimulation {
 /// What `sim` has beyond hard cores that only the Princeton format and checkpoints hold, in
 /// words for messages (the first of them); `None` for hard cores alone.
 fn beyond_hard_cores<const D: usize>(sim: &Simulation<D>) -> Option<&'static str> {
-    if sim.is_stepped() {
+    if sim.ring().is_some() {
+        Some("the ring patch")
+    } else if sim.is_stepped() {
         Some("the stepped potential")
     } else if sim.reactions().is_some() {
         Some("the reaction rules")
@@ -1813,7 +1915,7 @@ fn render(inner: &Inner, kind: &str, path: &Path) -> PyResult<Vec<u8>> {
                         gravity: s.sim.gravity(),
                         shear: s.sim.shear(),
                     };
-                    edmd_io::write_full(&mut w, &discs, s.sim.sim_box(), s.sim.barriers(), interactions, fmt, s.sim.time())
+                    edmd_io::write_full_ring(&mut w, &discs, s.sim.sim_box(), s.sim.barriers(), interactions, s.sim.ring(), fmt, s.sim.time())
                         .map_err(io_error)?
                 }
                 None => {
@@ -1940,7 +2042,7 @@ fn _restore(data: &Bound<'_, PyAny>) -> PyResult<PySimulation> {
 /// Makes a system as `edmd gen KIND` does (same checks, messages and seeds) and returns it as
 /// a simulation. Called by the functions in `edmd.gen`.
 #[pyfunction]
-#[pyo3(signature = (kind, *, dim=2, seed=1, course=false, n=None, radius=None, speed=None, mass=None, kt=None, packing=None, boundary=None, angle=None, impact=None, region=None, big_radius=None, big_mass=None, size_ratio=None, fraction_large=None, spread=None, well=None, shoulder=None, depth=None, rule="elastic", multi=false, species=None, reactions=None, restitution=None, gravity=None, shear=None))]
+#[pyo3(signature = (kind, *, dim=2, seed=1, course=false, n=None, radius=None, speed=None, mass=None, kt=None, packing=None, boundary=None, angle=None, impact=None, region=None, big_radius=None, big_mass=None, size_ratio=None, fraction_large=None, spread=None, well=None, shoulder=None, depth=None, rule="elastic", multi=false, species=None, reactions=None, restitution=None, gravity=None, shear=None, tau=None, omega=None, dispersion=None, height=None))]
 #[allow(clippy::too_many_arguments)]
 fn _generate(
     kind: &str,
@@ -1972,6 +2074,10 @@ fn _generate(
     restitution: Option<&Bound<'_, PyAny>>,
     gravity: Option<f64>,
     shear: Option<f64>,
+    tau: Option<f64>,
+    omega: Option<f64>,
+    dispersion: Option<f64>,
+    height: Option<f64>,
 ) -> PyResult<PySimulation> {
     use edmd::gen::{make_with, ChemistryArgs, GenArgs, Generated};
     let dim = edmd::options::parse_dim_with_rods(&dim.to_string())
@@ -2010,7 +2116,7 @@ fn _generate(
     let args = GenArgs {
         kind: kind.to_string(),
         output: String::new(),
-        dim,
+        dim: Some(dim),
         seed,
         course,
         n,
@@ -2033,6 +2139,10 @@ fn _generate(
         depth,
         gravity,
         shear,
+        tau,
+        omega,
+        dispersion,
+        height,
     };
     // `edmd gen`'s messages, with the Python argument names instead of its flags.
     let message = |e: anyhow::Error| {
@@ -2061,6 +2171,10 @@ fn _generate(
             "gravity",
             "shear",
             "course",
+            "tau",
+            "omega",
+            "dispersion",
+            "height",
             "seed",
             "species",
             "dim",
@@ -2114,12 +2228,14 @@ fn _generate(
         field: Option<edmd_core::Gravity>,
         restitution: Option<edmd_core::Restitution>,
         sliding: Option<edmd_core::Shear>,
+        patch: Option<edmd_core::Ring>,
     ) -> PyResult<Simulation<D>> {
         let mut sim = build(system, potential, opts, kind)?;
         reactions::apply(&mut sim, reactions, "reactions")?;
         gravity::apply(&mut sim, field.map(|f| gravity::Field::of(f, "gravity")))?;
         restitution::apply(&mut sim, restitution, "restitution")?;
         shear::apply(&mut sim, sliding.map(|s| shear::Sliding::of(s, "shear")))?;
+        ring::apply(&mut sim, patch, "omega")?;
         Ok(sim)
     }
     guarded("gen", || {
@@ -2129,25 +2245,29 @@ fn _generate(
         let potential = args.potential_of(&generated).map_err(message)?;
         let field = edmd::gen::gravity_of(&args, &generated).map_err(message)?;
         let sliding = edmd::gen::shear_of(&args, &generated).map_err(message)?;
+        let patch = edmd::gen::ring_of(&args).map_err(message)?;
+        if let (Some(_), Some(r)) = (patch, &restitution) {
+            edmd::gen::check_ring_restitution(r, kind).map_err(message)?;
+        }
         match generated {
             Generated::Two(_, Format::Course) if !potential.is_hard() => Err(value_error(format!(
                 "gen {kind}: the course format has no place for a potential (course with well or shoulder)"
             ))),
             Generated::Two(system, format) => Ok(PySimulation {
                 inner: Inner::Two(State::new(
-                    reactive(&system, &potential, opts, kind, reactions, field, restitution, sliding)?,
+                    reactive(&system, &potential, opts, kind, reactions, field, restitution, sliding, patch)?,
                     format,
                 )),
             }),
             Generated::Three(system) => Ok(PySimulation {
                 inner: Inner::Three(State::new(
-                    reactive(&system, &potential, opts, kind, reactions, field, restitution, sliding)?,
+                    reactive(&system, &potential, opts, kind, reactions, field, restitution, sliding, patch)?,
                     Format::Princeton(ColumnOrder::RadiusMass),
                 )),
             }),
             Generated::One(system) => Ok(PySimulation {
                 inner: Inner::One(State::new(
-                    reactive(&system, &potential, opts, kind, reactions, field, restitution, sliding)?,
+                    reactive(&system, &potential, opts, kind, reactions, field, restitution, sliding, patch)?,
                     Format::Princeton(ColumnOrder::RadiusMass),
                 )),
             }),

@@ -3,7 +3,8 @@
 //! Every kind starts from its documented defaults (`edmd_core::setup::generators`); each
 //! option overrides one parameter, and an option that a kind does not have is an error rather
 //! than silently ignored. [`ChemistryArgs`] adds species in given proportions and reaction
-//! rules ([`make_with`]).
+//! rules ([`make_with`]). `edmd gen ring` makes a patch of a planetary ring
+//! (`edmd_core::setup::ring::RingPatch`), written with its `# edmd ring` line ([`ring_of`]).
 
 use std::path::Path;
 
@@ -23,9 +24,9 @@ use crate::user_error;
 /// ([`ChemistryArgs`]).
 #[derive(Debug, Args)]
 pub struct GenCommand {
-    /// The system.
+    /// The system (boxed: its options make it the largest of the commands' arguments).
     #[command(flatten)]
-    pub args: GenArgs,
+    pub args: Box<GenArgs>,
     /// Species and reaction rules.
     #[command(flatten)]
     pub chemistry: ChemistryArgs,
@@ -100,15 +101,15 @@ pub struct ChemistryArgs {
 #[derive(Debug, Args)]
 pub struct GenArgs {
     /// What to generate: single, head-on, angled, one-red, lattice, diffusion1, diffusion2,
-    /// dense, brownian, fluid, mixture.
+    /// dense, brownian, fluid, mixture, ring.
     pub kind: String,
     /// Output file (`-` for standard output).
     #[arg(long, short, value_name = "FILE")]
     pub output: String,
-    /// Dimension: 2 (discs), 3 (spheres; fluid and mixture only) or 1 (hard rods on a line;
-    /// fluid only).
-    #[arg(long, default_value_t = 2, value_parser = crate::options::parse_dim_with_rods)]
-    pub dim: usize,
+    /// Dimension: 2 (discs), 3 (spheres; fluid, mixture and ring only) or 1 (hard rods on a
+    /// line; fluid only). Default 2, and 3 for ring.
+    #[arg(long, value_parser = crate::options::parse_dim_with_rods)]
+    pub dim: Option<usize>,
     /// Random seed: the same seed gives the same file.
     #[arg(long, default_value_t = 1, allow_negative_numbers = true)]
     pub seed: u64,
@@ -181,9 +182,30 @@ pub struct GenArgs {
     /// other way.
     #[arg(long, value_name = "RATE", allow_hyphen_values = true)]
     pub shear: Option<f64>,
+    /// The dynamical optical depth of a ring patch, N pi r^2 / (Lx Ly) (ring; default 0.25;
+    /// up to 0.5 in 2D, 2 in 3D).
+    #[arg(long, allow_negative_numbers = true)]
+    pub tau: Option<f64>,
+    /// The orbital frequency Omega of a ring patch (ring; default 1).
+    #[arg(long, value_name = "OMEGA", allow_negative_numbers = true)]
+    pub omega: Option<f64>,
+    /// The velocity dispersion a ring patch starts with about the Keplerian flow, per axis, in
+    /// units of Omega times the particles' diameter (ring; default 2; the particles have
+    /// radius 0.5, so diameter 1).
+    #[arg(long, allow_negative_numbers = true)]
+    pub dispersion: Option<f64>,
+    /// The height of a 3D ring patch's box, between walls along z, in diameters (ring;
+    /// default 60, at least 4).
+    #[arg(long, allow_negative_numbers = true)]
+    pub height: Option<f64>,
 }
 
 impl GenArgs {
+    /// The dimension: `--dim`, else 3 for a ring patch and 2 for the rest.
+    pub fn dim(&self) -> usize {
+        self.dim.unwrap_or(if self.kind == RING { 3 } else { 2 })
+    }
+
     /// The stepped potential `--well` or `--shoulder` asks for, for discs of diameter
     /// `diameter` (none: hard cores alone).
     pub fn potential(&self, diameter: f64) -> Result<edmd_core::Potential> {
@@ -264,13 +286,17 @@ impl Generated {
 
 /// Runs `edmd gen`.
 pub fn run(cmd: &GenCommand) -> Result<()> {
-    let args = &cmd.args;
+    let args: &GenArgs = &cmd.args;
     crate::output::check_file_destinations(&[("--output", Path::new(&args.output))])?;
     let restitution = restitution_of(args, &cmd.chemistry, &cmd.restitution)?;
     let (generated, rules) = make_with(args, &cmd.chemistry)?;
     let potential = args.potential_of(&generated)?;
     let gravity = gravity_of(args, &generated)?;
     let shear = shear_of(args, &generated)?;
+    let ring = ring_of(args)?;
+    if let Some(r) = ring.and(restitution.as_ref()) {
+        check_ring_restitution(r, &args.kind)?;
+    }
     if let (Some(g), Some(r)) = (gravity, &restitution) {
         if r.tc <= 0.0 && !r.is_elastic() {
             return user_error(format!(
@@ -290,22 +316,16 @@ pub fn run(cmd: &GenCommand) -> Result<()> {
         reactions: &rules,
         restitution: restitution.as_ref(),
         gravity,
-        shear,
+        // A ring's shear is written in its own line.
+        shear: ring
+            .map(|r| edmd_core::Shear::new(r.shear_rate()))
+            .or(shear),
     };
+    let princeton = Format::Princeton(ColumnOrder::RadiusMass);
     match generated {
-        Generated::Two(system, format) => write_system(&system, interactions, format, args),
-        Generated::Three(system) => write_system(
-            &system,
-            interactions,
-            Format::Princeton(ColumnOrder::RadiusMass),
-            args,
-        ),
-        Generated::One(system) => write_system(
-            &system,
-            interactions,
-            Format::Princeton(ColumnOrder::RadiusMass),
-            args,
-        ),
+        Generated::Two(system, format) => write_system(&system, interactions, ring, format, args),
+        Generated::Three(system) => write_system(&system, interactions, ring, princeton, args),
+        Generated::One(system) => write_system(&system, interactions, ring, princeton, args),
     }
 }
 
@@ -626,17 +646,20 @@ pub fn gravity_of(args: &GenArgs, generated: &Generated) -> Result<Option<edmd_c
 
 /// [`make`] without the field's box.
 fn make_in_box(args: &GenArgs) -> Result<Generated> {
+    if args.kind == RING {
+        return make_ring(args);
+    }
     let Ok(mut kind) = GenKind::from_name(&args.kind) else {
         return user_error(format!(
-            "gen: unknown kind '{}' (one of: {})",
+            "gen: unknown kind '{}' (one of: {}, {RING})",
             args.kind,
             GenKind::NAMES.join(", ")
         ));
     };
-    if args.dim == 3 {
+    if args.dim() == 3 {
         return make_3d(kind, args);
     }
-    if args.dim == 1 {
+    if args.dim() == 1 {
         return make_1d(kind, args);
     }
     apply(&mut kind, args)?;
@@ -739,6 +762,7 @@ fn at_kt<const D: usize>(
 fn write_system<const D: usize>(
     system: &edmd_core::System<D>,
     interactions: Interactions,
+    ring: Option<edmd_core::Ring>,
     format: Format,
     args: &GenArgs,
 ) -> Result<()> {
@@ -750,24 +774,26 @@ fn write_system<const D: usize>(
     }
     if args.output == "-" {
         let mut out = std::io::stdout().lock();
-        edmd_io::write_full(
+        edmd_io::write_full_ring(
             &mut out,
             &system.discs,
             &system.sim_box,
             &system.barriers,
             interactions,
+            ring,
             format,
             0.0,
         )?;
         std::io::Write::flush(&mut out)?;
     } else {
         let mut f = AtomicFile::create(Path::new(&args.output))?;
-        edmd_io::write_full(
+        edmd_io::write_full_ring(
             f.writer(),
             &system.discs,
             &system.sim_box,
             &system.barriers,
             interactions,
+            ring,
             format,
             0.0,
         )?;
@@ -788,6 +814,160 @@ fn write_system<const D: usize>(
             args.kind,
             args.output
         );
+    }
+    Ok(())
+}
+
+/// The name of the ring patch's kind, `edmd gen ring`.
+pub const RING: &str = "ring";
+
+/// The ring patch's particles' radius: diameter 1, the unit `--dispersion` and `--height`
+/// are in.
+pub const RING_RADIUS: f64 = 0.5;
+
+/// The patch `edmd gen ring` makes, from its options and their defaults (400 particles,
+/// optical depth 0.25, Omega 1, a dispersion of 2 Omega d, a box 60 diameters high), every
+/// option it does not take refused.
+pub fn ring_patch(args: &GenArgs) -> Result<edmd_core::setup::ring::RingPatch> {
+    let name = RING;
+    let others = [
+        (
+            "radius (the particles have radius 0.5)",
+            args.radius.is_some(),
+        ),
+        ("speed", args.speed.is_some()),
+        ("mass", args.mass.is_some()),
+        ("kt (the ring's is --dispersion)", args.kt.is_some()),
+        ("packing (the ring's is --tau)", args.packing.is_some()),
+        (
+            "boundary (x and y are periodic, z has walls)",
+            args.boundary.is_some(),
+        ),
+        ("angle", args.angle.is_some()),
+        ("impact", args.impact.is_some()),
+        ("region", args.region.is_some()),
+        ("big-radius", args.big_radius.is_some()),
+        ("big-mass", args.big_mass.is_some()),
+        ("size-ratio", args.size_ratio.is_some()),
+        ("fraction-large", args.fraction_large.is_some()),
+        ("spread", args.spread.is_some()),
+        ("well", args.well.is_some()),
+        ("shoulder", args.shoulder.is_some()),
+        ("depth", args.depth.is_some()),
+        (
+            "gravity (the ring has its own vertical pull, Omega^2 z)",
+            args.gravity.is_some(),
+        ),
+        (
+            "shear (the ring shears at -3/2 Omega itself)",
+            args.shear.is_some(),
+        ),
+    ];
+    if let Some((flag, _)) = others.iter().find(|(_, given)| *given) {
+        return user_error(format!(
+            "gen {name}: --{flag} does not apply to a ring patch"
+        ));
+    }
+    if args.course {
+        return user_error(format!(
+            "gen {name}: the course format has no place for a ring patch (--course)"
+        ));
+    }
+    let n = match args.n {
+        None => 400,
+        Some(n) if n < 2 || n as u64 > crate::MAX_N as u64 => {
+            return user_error(format!(
+                "gen {name}: --n must be from 2 to {}, found {n}",
+                crate::MAX_N
+            ))
+        }
+        Some(n) => n as usize,
+    };
+    let omega = args.omega.unwrap_or(1.0);
+    let checked = |flag: &str, v: f64, zero: bool| {
+        if v.is_finite() && (v > 0.0 || (zero && v == 0.0)) {
+            Ok(v)
+        } else {
+            user_error(format!(
+                "gen {name}: --{flag} must be a finite number {}, found {v}",
+                if zero { ">= 0" } else { "> 0" }
+            ))
+        }
+    };
+    let omega = checked("omega", omega, false)?;
+    let tau = checked("tau", args.tau.unwrap_or(0.25), false)?;
+    let dispersion = checked("dispersion", args.dispersion.unwrap_or(2.0), true)?;
+    let height = match (args.dim(), args.height) {
+        (3, h) => checked("height", h.unwrap_or(60.0), false)?,
+        (_, Some(_)) => {
+            return user_error(format!(
+                "gen {name}: --height is the 3D box's (a 2D patch has no z axis)"
+            ))
+        }
+        (_, None) => 60.0,
+    };
+    if !matches!(args.dim(), 2 | 3) {
+        return user_error(format!(
+            "gen {name}: a ring patch has 2 or 3 dimensions, not --dim {}",
+            args.dim()
+        ));
+    }
+    Ok(edmd_core::setup::ring::RingPatch {
+        n,
+        tau,
+        radius: RING_RADIUS,
+        omega,
+        dispersion: dispersion * omega * 2.0 * RING_RADIUS,
+        height,
+        seed: args.seed,
+    })
+}
+
+/// `edmd gen ring`: the patch, on the Keplerian flow (its ring is [`ring_of`]'s).
+fn make_ring(args: &GenArgs) -> Result<Generated> {
+    let patch = ring_patch(args)?;
+    let failed =
+        |e: edmd_core::Error| anyhow::Error::from(crate::UserError(format!("gen {RING}: {e}")));
+    Ok(match args.dim() {
+        2 => {
+            let (discs, sim_box) = patch.build::<2>().map_err(failed)?;
+            Generated::Two(
+                edmd_core::System {
+                    discs,
+                    sim_box,
+                    barriers: Vec::new(),
+                },
+                Format::Princeton(ColumnOrder::RadiusMass),
+            )
+        }
+        _ => {
+            let (discs, sim_box) = patch.build::<3>().map_err(failed)?;
+            Generated::Three(edmd_core::System {
+                discs,
+                sim_box,
+                barriers: Vec::new(),
+            })
+        }
+    })
+}
+
+/// The ring `edmd gen ring` writes (`None` for every other kind).
+pub fn ring_of(args: &GenArgs) -> Result<Option<edmd_core::Ring>> {
+    if args.kind != RING {
+        return Ok(None);
+    }
+    let omega = ring_patch(args)?.omega;
+    Ok(Some(edmd_core::Ring { omega }))
+}
+
+/// Refuses a constant coefficient below 1 on a ring without the TC model: a cold dense patch
+/// would otherwise undergo inelastic collapse (infinitely many collisions in a finite time).
+/// Bridges' law, elastic at low speeds, needs none.
+pub fn check_ring_restitution(r: &edmd_core::Restitution, kind: &str) -> Result<()> {
+    if edmd_io::restitution::collapses_without_tc(r) {
+        return user_error(format!(
+            "gen {kind}: a constant restitution below 1 on a ring needs the TC model: add --restitution 'tc T' (T > 0; 'tc 0.001' for Omega 1), or take Bridges' law ('bridges VC'), or a cold dense patch collapses (infinitely many collisions in a finite time)"
+        ));
     }
     Ok(())
 }
@@ -964,6 +1144,10 @@ fn apply(kind: &mut GenKind, a: &GenArgs) -> Result<()> {
         ("size-ratio", a.size_ratio.is_some()),
         ("fraction-large", a.fraction_large.is_some()),
         ("spread", a.spread.is_some()),
+        ("tau", a.tau.is_some()),
+        ("omega", a.omega.is_some()),
+        ("dispersion", a.dispersion.is_some()),
+        ("height", a.height.is_some()),
     ];
     if let Some((flag, _)) = given.iter().find(|(f, g)| *g && !used.contains(f)) {
         return user_error(format!("gen {name}: --{flag} does not apply to this kind"));

@@ -225,6 +225,7 @@ pub fn build_seeded<const D: usize>(
     set_gravity(path, sys, &mut sim)?;
     set_restitution(path, sys, &mut sim)?;
     set_shear(path, sys, &mut sim)?;
+    set_ring(path, sys, &mut sim)?;
     Ok(sim)
 }
 
@@ -241,6 +242,7 @@ pub fn build_with_hint<const D: usize>(
     set_gravity(path, sys, &mut sim)?;
     set_restitution(path, sys, &mut sim)?;
     set_shear(path, sys, &mut sim)?;
+    set_ring(path, sys, &mut sim)?;
     Ok(sim)
 }
 
@@ -311,8 +313,25 @@ pub fn set_shear<const D: usize>(
     if sys.shear.is_none() {
         return Ok(());
     }
+    // A ring's shear comes from its own line.
+    let line = if sys.ring.is_some() { "ring" } else { "shear" };
     sim.set_shear(sys.shear)
-        .or_else(|e| user_error(format!("{path}: {e} (the file's '# edmd shear' line)")))
+        .or_else(|e| user_error(format!("{path}: {e} (the file's '# edmd {line}' line)")))
+}
+
+/// Makes `sim`, built from `sys` and sheared by [`set_shear`] at the file's offset, the
+/// file's ring patch (nothing without one), which keeps that offset. A ring with multi-disc
+/// collisions is refused in one line naming the file.
+pub fn set_ring<const D: usize>(
+    path: &str,
+    sys: &LoadedSystem<D>,
+    sim: &mut Simulation<D>,
+) -> Result<()> {
+    if sys.ring.is_none() {
+        return Ok(());
+    }
+    sim.set_ring(sys.ring)
+        .or_else(|e| user_error(format!("{path}: {e} (the file's '# edmd ring' line)")))
 }
 
 /// The simulation of the discs, box, barriers and potential of `sys`, without its reactions.

@@ -87,6 +87,18 @@ pub struct Summary {
     /// flow's own kinetic energy left out).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub peculiar_kt: Option<f64>,
+    /// On a ring patch: the orbital frequency `Omega` (its shear is `shear_rate`, `-3/2 Omega`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub ring_omega: Option<f64>,
+    /// On a ring patch: the velocity dispersion relative to the Keplerian flow at the end,
+    /// `sqrt(2 K' / (N D))` (per axis, `K'` the peculiar kinetic energy; unit masses give the
+    /// root mean square of each peculiar velocity component).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub dispersion: Option<f64>,
+    /// On a ring patch: the ring's potential energy at the end (tidal and vertical, see
+    /// `Simulation::ring_energy`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub ring_energy: Option<f64>,
     /// Discs moved into the box by `--allow-overlaps`.
     pub discs_moved_into_box: usize,
     /// Trajectory frames written.
@@ -527,6 +539,12 @@ fn execute<const D: usize>(
             .shear()
             .filter(|_| !sim.is_empty())
             .map(|_| 2.0 * sim.peculiar_kinetic_energy() / (D * sim.len()) as f64),
+        ring_omega: sim.ring().map(|r| r.omega),
+        dispersion: sim
+            .ring()
+            .filter(|_| !sim.is_empty())
+            .map(|_| (2.0 * sim.peculiar_kinetic_energy() / (D * sim.len()) as f64).sqrt()),
+        ring_energy: sim.ring().map(|_| sim.ring_energy()),
         discs_moved_into_box: sim.adjusted_discs(),
         frames,
     };
@@ -544,12 +562,13 @@ fn execute<const D: usize>(
         shear: sim.shear(),
     };
     let write_state = |mut w: &mut dyn Write| {
-        edmd_io::write_full(
+        edmd_io::write_full_ring(
             &mut w,
             &discs,
             sim.sim_box(),
             sim.barriers(),
             interactions,
+            sim.ring(),
             format,
             sim.time(),
         )
@@ -826,7 +845,15 @@ fn human(s: &Summary) -> String {
     if let Some(lost) = s.dissipated {
         t += &format!("\ninelastic collisions: {lost} of kinetic energy lost");
     }
-    if let (Some(rate), Some(offset)) = (s.shear_rate, s.shear_offset) {
+    if let (Some(omega), Some(offset)) = (s.ring_omega, s.shear_offset) {
+        t += &format!(
+            "\nring patch: Omega {omega} (shear rate {}), images' offset {offset} at the end",
+            -1.5 * omega
+        );
+        if let Some(c) = s.dispersion {
+            t += &format!("; velocity dispersion {c:.6} about the Keplerian flow");
+        }
+    } else if let (Some(rate), Some(offset)) = (s.shear_rate, s.shear_offset) {
         t += &format!("\nshear: rate {rate}, images' offset {offset} at the end");
         if let Some(kt) = s.peculiar_kt {
             t += &format!("; kT {kt:.6} about the streaming profile");

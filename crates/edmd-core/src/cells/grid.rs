@@ -56,6 +56,17 @@ impl<const D: usize> CellGrid<D> {
     /// box's shape: at most [`Self::max_cells`] cells in all (see [`Self::cell_counts`]).
     pub fn new(sim_box: &SimBox<D>, n: usize, max_diameter: f64) -> Result<Self, Error> {
         let counts = Self::cell_counts(sim_box, n, max_diameter)?;
+        Self::with_counts(sim_box, n, counts)
+    }
+
+    /// A grid for `n` discs with `counts` cells along each axis (each at least 1, and at most
+    /// [`Self::max_cells`] in all).
+    pub fn with_counts(sim_box: &SimBox<D>, n: usize, counts: [u64; D]) -> Result<Self, Error> {
+        if counts.iter().any(|&c| c == 0 || c > u32::MAX as u64 / 4)
+            || counts.iter().fold(1u64, |t, &c| t.saturating_mul(c)) > Self::max_cells(n) as u64
+        {
+            return Err(Error::Invalid(format!("too many cells ({counts:?})")));
+        }
         let mut dims = [1u32; D];
         let mut width = [0.0; D];
         let mut periodic = [false; D];

@@ -5,6 +5,7 @@
 
 pub mod barrier;
 pub mod disc_disc;
+pub mod hill;
 pub mod interval;
 
 pub use disc_disc::{

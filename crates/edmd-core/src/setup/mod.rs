@@ -6,6 +6,7 @@ pub mod generators;
 pub mod lattice;
 pub mod order;
 pub mod placement;
+pub mod ring;
 pub mod sheets;
 
 /// The lowest packing fraction the fluid, mixture and `dense` generators accept: below it,

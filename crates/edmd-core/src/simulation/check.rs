@@ -97,6 +97,19 @@ impl<const D: usize> Simulation<D> {
                 let vj = self.velocity_of(j, t0) + dv;
                 let dv = vj - vi;
                 let sigma = bi.radius + bj.radius;
+                if self.ring.is_some() {
+                    // Deeper than the overlaps a run allows, before either looks again (the
+                    // contact times themselves differ in their last bits with the time they
+                    // were reckoned from).
+                    let again = looks_again(i, j).min(looks_again(j, i));
+                    let speeds = vi.norm2().sqrt() + self.velocity_of(j, t0).norm2().sqrt();
+                    let rounding = super::OVERLAP_ROUNDING * (longest + speeds * again.abs());
+                    let inside = sigma * (1.0 - super::OVERLAP_TOLERANCE) - rounding;
+                    if let Some(t) = self.ring_contact_before(dr, dv, inside, t0, again) {
+                        missed = Some((i, j, t, again));
+                    }
+                    return;
+                }
                 let terms = contact_terms::<D, true>(dr, dv, sigma);
                 if !terms.meets() {
                     return;

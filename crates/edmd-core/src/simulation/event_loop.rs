@@ -227,6 +227,7 @@ impl<const D: usize> Simulation<D> {
             || self.gravity.is_some()
             || self.shear.is_some()
             || self.sheets.is_some()
+            || self.ring.is_some()
     }
 
     /// Whether collisions follow a rule other than the hard cores' elastic one: reactions or
@@ -288,7 +289,7 @@ impl<const D: usize> Simulation<D> {
             }
             self.event_time = t;
             self.now = t;
-            if EXTRAS && (self.gravity.is_some() || self.sheets.is_some()) {
+            if EXTRAS && (self.gravity.is_some() || self.sheets.is_some() || self.ring.is_some()) {
                 self.advance_in_field(i, t);
             }
             // The handlers change the state; the discs whose course changed (or whose cell
@@ -331,9 +332,14 @@ impl<const D: usize> Simulation<D> {
                 Pending::Thermostat => (self.redraw(i, t), [i, NO_DISC]),
                 Pending::Relist if EXTRAS => (self.relist(i, t), [i, NO_DISC]),
                 Pending::Slide if EXTRAS => (self.slide(i, t), [i, NO_DISC]),
+                Pending::Refile | Pending::Recheck if EXTRAS => (self.refile(i, t), [i, NO_DISC]),
                 // Only a stepped potential (`EXTRAS`) has neighbour lists, and only shear
                 // (`EXTRAS`) slides.
-                Pending::Nothing | Pending::Relist | Pending::Slide => {
+                Pending::Nothing
+                | Pending::Relist
+                | Pending::Slide
+                | Pending::Refile
+                | Pending::Recheck => {
                     unreachable!("finite time with nothing pending")
                 }
             };
@@ -351,6 +357,13 @@ impl<const D: usize> Simulation<D> {
     /// flights were straight.
     #[inline(never)]
     fn advance_in_field(&mut self, i: usize, t: f64) {
+        if let Some(o) = self.ring.as_deref() {
+            if let Pending::Disc { partner, .. } = self.body[i].pending {
+                self.body[partner as usize].advance_on_orbit(t, o);
+            }
+            self.body[i].advance_on_orbit(t, o);
+            return;
+        }
         if let Pending::Disc { partner, .. } = self.body[i].pending {
             let field = self.flight(partner as usize);
             self.body[partner as usize].advance_in(t, field);

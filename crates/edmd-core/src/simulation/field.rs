@@ -119,6 +119,9 @@ impl<const D: usize> Simulation<D> {
         if self.sheets.is_some() {
             return refuse("a field does not go with self-gravity");
         }
+        if self.ring.is_some() {
+            return refuse("a field does not go with a ring");
+        }
         if let Some(d) = &self.dissipation {
             grains_in_field(&d.restitution).map_err(Error::BadField)?;
         }
@@ -155,12 +158,18 @@ impl<const D: usize> Simulation<D> {
     /// Disc `i`'s position at `t` (extrapolated from its own clock, on its flight).
     #[inline]
     pub(super) fn position_of(&self, i: usize, t: f64) -> Vector<D> {
+        if let Some(o) = self.ring.as_deref() {
+            return self.body[i].on_orbit(t, o).0;
+        }
         self.body[i].position_in(t, self.flight(i))
     }
 
     /// Disc `i`'s velocity at `t` (on its flight).
     #[inline]
     pub(super) fn velocity_of(&self, i: usize, t: f64) -> Vector<D> {
+        if let Some(o) = self.ring.as_deref() {
+            return self.body[i].on_orbit(t, o).1;
+        }
         self.body[i].velocity_in(t, self.flight(i))
     }
 }

@@ -39,6 +39,7 @@ mod options;
 mod persist;
 mod predict;
 mod reactions;
+mod ring;
 #[cfg(target_arch = "x86_64")]
 mod scan_x86;
 mod shear;
@@ -176,6 +177,8 @@ pub struct Simulation<const D: usize = 2> {
     shear: Option<Box<shear::LeesEdwards>>,
     /// One-dimensional self-gravity, with each rod's rank and acceleration; `None`: none.
     sheets: Option<Box<sheets::Sheets>>,
+    /// A ring patch: Hill's flights, with the shear at `-3/2 Omega`; `None`: none.
+    ring: Option<Box<ring::Orbits>>,
     /// Event counts (last: the fields above keep their places as counts are added).
     stats: Stats,
 }
@@ -415,6 +418,7 @@ impl<const D: usize> Simulation<D> {
             gravity: None,
             shear: None,
             sheets: None,
+            ring: None,
         };
         sim.check_clock(t0)?;
         sim.set_portable_loop(false);
@@ -514,6 +518,9 @@ impl<const D: usize> Simulation<D> {
 
     /// Position of disc `i` at the current time (in the primary box on periodic axes).
     pub fn position(&self, i: usize) -> Vector<D> {
+        if self.ring.is_some() {
+            return self.observed(i, self.now).0;
+        }
         self.sim_box.wrap(self.position_of(i, self.now))
     }
 
@@ -534,6 +541,9 @@ impl<const D: usize> Simulation<D> {
 
     /// Velocity of disc `i` at the current time.
     pub fn velocity(&self, i: usize) -> Vector<D> {
+        if self.ring.is_some() {
+            return self.observed(i, self.now).1;
+        }
         self.velocity_of(i, self.now)
     }
 
@@ -576,7 +586,7 @@ impl<const D: usize> Simulation<D> {
 
     /// Total kinetic energy `sum m v^2 / 2` at the current time.
     pub fn kinetic_energy(&self) -> f64 {
-        if self.sheets.is_some() {
+        if self.sheets.is_some() || self.ring.is_some() {
             return self.kinetic_energy_sheets();
         }
         self.body
@@ -586,10 +596,11 @@ impl<const D: usize> Simulation<D> {
             .sum()
     }
 
-    /// [`Self::kinetic_energy`] under self-gravity, each disc on its own parabola.
+    /// [`Self::kinetic_energy`] under self-gravity, each disc on its own parabola, or on a
+    /// ring, each on its orbit (as the box shows it, [`Self::velocity`]).
     fn kinetic_energy_sheets(&self) -> f64 {
         (0..self.body.len())
-            .map(|i| 0.5 * self.mass[i] * self.velocity_of(i, self.now).norm2())
+            .map(|i| 0.5 * self.mass[i] * self.velocity(i).norm2())
             .sum()
     }
 
@@ -597,7 +608,7 @@ impl<const D: usize> Simulation<D> {
     pub fn momentum(&self) -> Vector<D> {
         let mut p = Vector::ZERO;
         for i in 0..self.body.len() {
-            p += self.velocity_of(i, self.now) * self.mass[i];
+            p += self.velocity(i) * self.mass[i];
         }
         p
     }

@@ -31,7 +31,8 @@ use crate::frame::{self, Reader, Writer};
 /// The first bytes of every checkpoint.
 pub const MAGIC: &[u8; 8] = frame::RUN.magic;
 
-/// The checkpoint format this build writes. It reads this one, version 8 (which had no
+/// The checkpoint format this build writes. It reads this one, version 9 (which had no
+/// ring), version 8 (which had no
 /// self-gravity), version 7 (which had no shear), version 6 (which had no restitution or field), version 5 (which had no reaction rules), version 4 (whose stepped
 /// potentials kept their discs' cells by position, with no neighbour lists: such a run
 /// continues with its discs at the last event time and their lists made there, every event
@@ -77,6 +78,8 @@ fn describe(p: Pending) -> String {
         Pending::Thermostat => "thermostat redraw".into(),
         Pending::Relist => "neighbour list's renewal".into(),
         Pending::Slide => "slide of the sheared images".into(),
+        Pending::Refile => "refiling in the grid".into(),
+        Pending::Recheck => "new look at a contact search".into(),
         Pending::Nothing => "no event".into(),
     }
 }
@@ -108,6 +111,8 @@ fn write_pending(w: &mut Writer, p: Pending) {
         Pending::Thermostat => w.u8(5),
         Pending::Relist => w.u8(6),
         Pending::Slide => w.u8(7),
+        Pending::Refile => w.u8(8),
+        Pending::Recheck => w.u8(9),
     }
 }
 
@@ -164,6 +169,8 @@ fn read_pending<const D: usize>(
         5 => Pending::Thermostat,
         6 => Pending::Relist,
         7 => Pending::Slide,
+        8 => Pending::Refile,
+        9 => Pending::Recheck,
         x => return bad(format!("disc {i}: event code {x}")),
     };
     Ok(pending)
@@ -437,6 +444,14 @@ impl<const D: usize> Simulation<D> {
                 for &i in &s.order {
                     w.u32(i);
                 }
+            }
+        }
+        // The ring (format 10): its orbital frequency (the shear above is its own).
+        match self.ring.as_deref() {
+            None => w.u8(0),
+            Some(o) => {
+                w.u8(1);
+                w.f64(o.ring.omega);
             }
         }
         w.bytes(extra);
@@ -920,6 +935,15 @@ impl<const D: usize> Simulation<D> {
             }
             sheets_read = Some((g, order));
         }
+        let mut ring_read = None;
+        if version >= 10 && r.flag("ring")? {
+            let ring = crate::state::Ring { omega: r.f64()? };
+            ring.validate(D).or_else(|e| bad(e.to_string()))?;
+            if shear_read.is_none_or(|(rate, _, _)| rate != ring.shear_rate()) {
+                return bad("a ring without its shear at -3/2 times its orbital frequency");
+            }
+            ring_read = Some(ring);
+        }
         let extra = r.bytes()?.to_vec();
         if !r.at_end() {
             return bad("bytes after the end of the state");
@@ -934,8 +958,12 @@ impl<const D: usize> Simulation<D> {
         } else {
             width
         };
-        let mut grid = CellGrid::new(&sim_box, n, if n == 0 { 1.0 } else { width })
-            .map_err(|e| Error::Checkpoint(format!("cell grid: {e}")))?;
+        let grid = if ring_read.is_some() {
+            super::ring::ring_grid(&sim_box, n, max_diameter)
+        } else {
+            CellGrid::new(&sim_box, n, if n == 0 { 1.0 } else { width })
+        };
+        let mut grid = grid.map_err(|e| Error::Checkpoint(format!("cell grid: {e}")))?;
         if shells_v4.is_none() {
             grid.restore(head, next, prev, cell)
                 .map_err(|what| Error::Checkpoint(format!("cell grid: {what}")))?;
@@ -975,6 +1003,14 @@ impl<const D: usize> Simulation<D> {
         let far_contacts = super::predict::far_contacts(&grid, &sim_box, min_diameter);
         let sheets =
             sheets_read.map(|(g, order)| Box::new(super::sheets::Sheets::new(g, order, &mass)));
+        let ring = ring_read.map(|r| {
+            Box::new(super::ring::Orbits::new(
+                r,
+                sim_box.lengths,
+                &grid,
+                max_diameter,
+            ))
+        });
         let mut sim = Simulation {
             sim_box,
             rule,
@@ -1012,11 +1048,14 @@ impl<const D: usize> Simulation<D> {
             gravity,
             shear,
             sheets,
+            ring,
         };
         if let Some(f) = sim.gravity {
             sim.gravity_fits(f).or_else(|e| bad(e.to_string()))?;
         }
-        if sim.shear.is_some() {
+        if sim.ring.is_some() {
+            sim.ring_fits().or_else(|e| bad(e.to_string()))?;
+        } else if sim.shear.is_some() {
             sim.shear_fits().or_else(|e| bad(e.to_string()))?;
         }
         if sim.sheets.is_some() {
@@ -1075,7 +1114,13 @@ impl<const D: usize> Simulation<D> {
         // disc whose centre is near.
         let longest = sim.sim_box.lengths.iter().copied().fold(0.0, f64::max);
         for (i, b) in sim.body.iter().enumerate() {
+            // On a ring a disc strays up to its cell's margin before it is filed again.
+            let margin = sim
+                .ring
+                .as_deref()
+                .map_or(0.0, |o| o.margin.iter().copied().fold(0.0, f64::max));
             let slack = 1e-9 * max_diameter
+                + margin
                 + super::OVERLAP_ROUNDING * (longest + b.vel.norm2().sqrt() * b.time.abs());
             let (filed, leash) = match &sim.steps {
                 Some(st) => (st.centre[i], Some((st.centre[i], st.leash))),
@@ -1125,6 +1170,7 @@ impl<const D: usize> Simulation<D> {
                         | Pending::Barrier { .. }
                         | Pending::Thermostat
                         | Pending::Slide
+                        | Pending::Refile
                 );
                 if own_kind && (t, pending) != (bound, own) {
                     return bad(format!(

@@ -76,6 +76,9 @@ impl<const D: usize> Simulation<D> {
     /// instructions per collision and measured slower in 2D (BENCHMARKS.md).
     pub(super) fn own_event(&self, i: usize) -> (f64, Pending) {
         let bi = self.body[i];
+        if self.ring.is_some() {
+            return self.own_event_ring(i, bi.time, bi.pos, bi.vel);
+        }
         if let Some(f) = self.gravity {
             return self.own_event_in_field(i, bi.time, bi.pos, bi.vel, f);
         }
@@ -206,6 +209,9 @@ impl<const D: usize> Simulation<D> {
         let t0 = self.event_time;
         if EXTRAS && self.sheets.is_some() {
             return self.predict_sheets(i);
+        }
+        if EXTRAS && self.ring.is_some() {
+            return self.predict_ring(i);
         }
         if EXTRAS && self.gravity.is_some() {
             return self.predict_in_field::<FAR>(i);
@@ -532,6 +538,12 @@ impl<'a> Nearest<'a> {
         self.second_t = self.second_t.min(self.best_t.max(t));
         self.partner = (w & keep) | (self.partner & !keep);
         self.best_t = self.best_t.min(t);
+    }
+
+    /// The earliest event's time so far.
+    #[inline(always)]
+    pub(super) fn best_t(&self) -> f64 {
+        self.best_t
     }
 
     /// The earliest time and its partner (`NO_PARTNER` if no pair beats the time given to

@@ -189,6 +189,9 @@ impl<const D: usize> Simulation<D> {
         if self.multi.is_some() {
             return refuse("shear does not go with multi-disc collisions");
         }
+        if self.ring.is_some() {
+            return refuse("a ring sets its own shear, at -3/2 times its orbital frequency");
+        }
         Ok(())
     }
 
@@ -214,6 +217,10 @@ impl<const D: usize> Simulation<D> {
     /// crossing of the boundary that height can be a rounding error outside, and the velocity
     /// is that of the image it is in (folded, the profile would be off by `gamma L_y`).
     pub fn peculiar_velocity(&self, i: usize) -> Vector<D> {
+        if self.ring.is_some() {
+            let (p, v) = self.observed(i, self.now);
+            return v - self.streaming_velocity(p);
+        }
         let p = self.position_of(i, self.now);
         self.velocity(i) - self.streaming_velocity(p)
     }

@@ -477,6 +477,7 @@ impl<const D: usize> Simulation<D> {
             .sum::<f64>()
             + self.field_energy()
             + self.self_gravity_energy()
+            + self.ring_energy()
     }
 
     /// The energy of the pair `i`, `j` in shell `s`.

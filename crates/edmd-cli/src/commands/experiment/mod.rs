@@ -16,6 +16,7 @@ pub mod maxwell;
 pub mod mfp;
 pub mod reaction;
 pub mod reversibility;
+pub mod ring;
 pub mod sheets;
 pub mod shoulder;
 pub mod square_well;
@@ -63,6 +64,10 @@ pub enum Experiment {
     Reaction(reaction::ReactionArgs),
     /// Run forward, reverse the velocities, run back: how far from the start do the discs land?
     Reversibility(reversibility::ReversibilityArgs),
+    /// A patch of a planetary ring (the shearing sheet): the velocity dispersion and optical
+    /// depth against time from cold and hot starts, on both sides of Goldreich and Tremaine's
+    /// critical restitution, and with Bridges' law; a movie of the patch.
+    Ring(ring::RingArgs),
     /// One-dimensional self-gravitating sheets from a water bag: the virial theorem on time
     /// averages, the slow relaxation as a phase-plane movie, and the density in a heat bath
     /// against the isothermal sheet (Spitzer's sech^2).
@@ -101,6 +106,7 @@ pub fn run(which: &Experiment) -> Result<()> {
         Experiment::Mfp(a) => mfp::run(a),
         Experiment::Reaction(a) => reaction::run(a),
         Experiment::Reversibility(a) => reversibility::run(a),
+        Experiment::Ring(a) => ring::run(a),
         Experiment::Sheets(a) => sheets::run(a),
         Experiment::Shoulder(a) => shoulder::run(a),
         Experiment::SquareWell(a) => square_well::run(a),
