@@ -12,7 +12,7 @@ use edmd_core::pack::Packer;
 use edmd_core::{
     Andersen, Barrier, Boundary, CollisionRule, Demon, Disc, Error, EventKind, EventRecord,
     Gravity, MultiContact, Observer, Options, OverlapPolicy, PairSteps, Potential, Reaction,
-    Reactions, Restitution, RestitutionLaw, Shear, SimBox, Simulation, Step, Vector,
+    Reactions, Restitution, RestitutionLaw, Ring, Shear, SimBox, Simulation, Step, Vector,
     OVERLAP_TOLERANCE,
 };
 
@@ -78,6 +78,9 @@ pub struct Setup<const D: usize> {
     pub shear: Option<Shear>,
     /// An Andersen thermostat (sheared systems only: it draws about the streaming profile).
     pub thermostat: Option<Andersen>,
+    /// A ring patch (a third of the sheared systems whose z axis, in 3D, has walls): Hill's
+    /// flights, the shear's rate becoming the Keplerian one.
+    pub ring: Option<Ring>,
 }
 
 /// A random valid system: box lengths within [`MAX_ASPECT`], walls or periodic per axis, up to
@@ -379,6 +382,7 @@ pub fn setup<const D: usize>(u: &mut Unstructured, max_n: usize) -> Result<Setup
     // drawing about the streaming profile.
     let mut shear = None;
     let mut thermostat = None;
+    let mut ring = None;
     if potential.is_none()
         && barriers.is_empty()
         && multi.is_none()
@@ -393,6 +397,11 @@ pub fn setup<const D: usize>(u: &mut Unstructured, max_n: usize) -> Result<Setup
             _ => (unit(u)? * sim_box.lengths[0]).min(sim_box.lengths[0].next_down()),
         };
         shear = Some(Shear { rate, offset });
+        if (D == 2 || !sim_box.is_periodic(2)) && u.ratio(1, 3)? {
+            ring = Some(Ring {
+                omega: (rate.abs() / 1.5).max(1e-3 * vmax / sim_box.lengths[1]),
+            });
+        }
         if u.arbitrary::<bool>()? {
             thermostat = Some(Andersen {
                 kt: (vmax * vmax * unit(u)?).max(1e-6),
@@ -413,6 +422,7 @@ pub fn setup<const D: usize>(u: &mut Unstructured, max_n: usize) -> Result<Setup
         gravity,
         shear,
         thermostat,
+        ring,
     })
 }
 
@@ -654,6 +664,12 @@ pub fn engine<const D: usize>(data: &[u8], max_n: usize) {
         // Discs the generator placed clear of the plain images may touch the slid ones.
         Err(Error::BadShear(m)) if m.contains("overlap") => return,
         Err(e) => panic!("shear the generator made: {e}"),
+    }
+    match sim.set_ring(s.ring) {
+        Ok(()) => {}
+        // As for the shear; and a box too small for the ring's wider cells.
+        Err(Error::BadRing(m)) if m.contains("overlap") || m.contains("too small") => return,
+        Err(e) => panic!("a ring the generator made: {e}"),
     }
     sim.set_thermostat(s.thermostat)
         .expect("a thermostat the generator made");

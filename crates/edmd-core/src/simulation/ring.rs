@@ -489,13 +489,9 @@ impl<const D: usize> Simulation<D> {
         let rows = self.grid.dims()[1];
         if c[1] == 0 || c[1] + 1 == rows {
             let s = self.shear.as_deref().expect("shear");
-            let (k, frac, _) = s.epoch(t0);
-            let above = c[1] + 1 == rows;
-            let mut dv = Vector::ZERO;
-            dv[0] = if above { s.speed } else { -s.speed };
             let grid = &self.grid;
-            grid.for_each_cell_sheared(c, above, k, frac, |cell, shift, across| {
-                scan.dv = if across { dv } else { Vector::ZERO };
+            super::shear::cells_across(grid, s, c, t0, |cell, shift, dv| {
+                scan.dv = dv;
                 grid.visit_cell(cell, shift, &mut &mut scan);
             });
         } else {

@@ -29,7 +29,7 @@ use crate::state::{Boundary, Shear};
 
 use super::predict::Nearest;
 use super::{Body, Simulation};
-use crate::cells::Visit;
+use crate::cells::{CellGrid, Visit};
 use crate::predict::contact_terms;
 
 /// The shear's state: the rate, and the slide of the images as a function of time.
@@ -125,6 +125,27 @@ impl LeesEdwards {
     pub(super) fn stream(&self, y: f64) -> f64 {
         self.rate * (y - 0.5 * self.height)
     }
+}
+
+/// Calls `f(cell, shift, dv)` for every cell a disc in cell `c` of a boundary row scans at `t`:
+/// its own side's cells, and across y the slid images' columns for the epoch at `t`
+/// ([`CellGrid::for_each_cell_sheared`]), each with its image shift and the images' extra
+/// velocity (`+-gamma L_y` along x across the boundary, zero on its own side).
+#[inline(always)]
+pub(super) fn cells_across<const D: usize>(
+    grid: &CellGrid<D>,
+    s: &LeesEdwards,
+    c: [u32; D],
+    t: f64,
+    mut f: impl FnMut(usize, Vector<D>, Vector<D>),
+) {
+    let (k, frac, _) = s.epoch(t);
+    let above = c[1] + 1 == grid.dims()[1];
+    let mut dv = Vector::ZERO;
+    dv[0] = if above { s.speed } else { -s.speed };
+    grid.for_each_cell_sheared(c, above, k, frac, |cell, shift, across| {
+        f(cell, shift, if across { dv } else { Vector::ZERO })
+    });
 }
 
 impl<const D: usize> Simulation<D> {
@@ -291,18 +312,12 @@ impl<const D: usize> Simulation<D> {
         if let Some(s) = self.shear.as_deref() {
             let rows = self.grid.dims()[1];
             if c[1] == 0 || c[1] + 1 == rows {
-                let (k, frac, _) = s.epoch(t);
-                let above = c[1] + 1 == rows;
-                let mut dv = Vector::ZERO;
-                dv[0] = if above { s.speed } else { -s.speed };
-                self.grid
-                    .for_each_cell_sheared(c, above, k, frac, |cell, shift, across| {
-                        let dv = if across { dv } else { Vector::ZERO };
-                        self.grid
-                            .visit_cell(cell, shift, &mut |j: usize, shift: Vector<D>| {
-                                f(j, shift, dv)
-                            });
-                    });
+                cells_across(&self.grid, s, c, t, |cell, shift, dv| {
+                    self.grid
+                        .visit_cell(cell, shift, &mut |j: usize, shift: Vector<D>| {
+                            f(j, shift, dv)
+                        });
+                });
                 return;
             }
         }
@@ -484,13 +499,9 @@ impl<const D: usize> Simulation<D> {
         let rows = self.grid.dims()[1];
         if c[1] == 0 || c[1] + 1 == rows {
             let s = self.shear.as_deref().expect("shear");
-            let (k, frac, _) = s.epoch(t0);
-            let above = c[1] + 1 == rows;
-            let mut dv = Vector::ZERO;
-            dv[0] = if above { s.speed } else { -s.speed };
             let grid = &self.grid;
-            grid.for_each_cell_sheared(c, above, k, frac, |cell, shift, across| {
-                scan.dv = if across { dv } else { Vector::ZERO };
+            cells_across(grid, s, c, t0, |cell, shift, dv| {
+                scan.dv = dv;
                 grid.visit_cell(cell, shift, &mut &mut scan);
             });
             let settled = scan.nearest.settle();
