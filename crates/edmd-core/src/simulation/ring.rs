@@ -62,6 +62,13 @@ pub(super) fn ring_grid<const D: usize>(
         let fit = (sim_box.lengths[a] / sparse).floor();
         counts[a] = fit.clamp(3.0, most.min(u32::MAX as f64 / 4.0)) as u64;
     }
+    // Within the grid's budget: in a long box three cells across the short side can leave
+    // the long side more than its share.
+    let budget = CellGrid::<D>::max_cells(n) as u64;
+    while counts[0] * counts[1] > budget && counts[0].max(counts[1]) > 3 {
+        let a = if counts[0] >= counts[1] { 0 } else { 1 };
+        counts[a] = (budget / counts[1 - a]).clamp(3, counts[a] - 1);
+    }
     CellGrid::with_counts(sim_box, n, counts)
 }
 
