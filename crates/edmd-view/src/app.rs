@@ -7,7 +7,7 @@ use std::time::{Duration, Instant};
 
 use eframe::egui;
 use egui::{Color32, ColorImage, Key, TextureHandle, TextureOptions, ViewportCommand};
-use egui_plot::{Bar, BarChart, Legend, Line, Plot, PlotPoints};
+use egui_plot::{Bar, BarChart, Legend, Line, MarkerShape, Plot, PlotPoints, Points};
 
 use edmd_core::{EventKind, StepHit};
 use edmd_draw::{pick, AnyScene, Colouring, View, OUTSIDE};
@@ -41,9 +41,9 @@ pub struct Report {
     pub draw: f64,
     /// Wall time spent converting and uploading the picture, in seconds.
     pub upload: f64,
-    /// Number of discs or spheres.
+    /// Number of rods, discs or spheres.
     pub discs: usize,
-    /// What they are: "discs" or "spheres".
+    /// What they are: "rods", "discs" or "spheres".
     pub noun: &'static str,
     /// A failure to report on exit (for example, a screenshot that could not be written).
     pub error: Option<String>,
@@ -119,6 +119,9 @@ pub struct ViewerApp<const D: usize = 2> {
     quit_after: Option<Duration>,
     screenshot_requested: Option<Instant>,
     last_event: String,
+    /// On a line, the phase plane's extent so far, `[x_min, x_max, v_min, v_max]`: it only
+    /// grows (until a restart), so that the plot does not jump at every frame.
+    phase_bounds: Option<[f64; 4]>,
     report: Rc<RefCell<Report>>,
 }
 
@@ -167,6 +170,7 @@ impl<const D: usize> ViewerApp<D> {
             quit_after,
             screenshot_requested: None,
             last_event: String::new(),
+            phase_bounds: None,
             report,
         }
     }
@@ -237,7 +241,7 @@ impl<const D: usize> ViewerApp<D> {
             };
             self.redraw = true;
         }
-        if ctx.input(|i| i.key_pressed(Key::B)) && self.model.sim.is_stepped() {
+        if ctx.input(|i| i.key_pressed(Key::B)) && self.model.sim.is_stepped() && D != 1 {
             self.model.bonds = !self.model.bonds;
             self.redraw = true;
         }
@@ -294,6 +298,7 @@ impl<const D: usize> ViewerApp<D> {
     fn restart(&mut self) {
         self.model.restart();
         self.last_event.clear();
+        self.phase_bounds = None;
         self.rates.collisions = 0;
         self.redraw = true;
     }
@@ -418,17 +423,23 @@ impl<const D: usize> ViewerApp<D> {
                 ui.selectable_value(&mut self.model.colouring, c, name);
             }
             // A stepped potential's own views: the energy of each disc's pairs, and the pairs
-            // inside a well or shoulder as bonds.
+            // inside a well or shoulder as bonds (not on a line, where the rods of a pair are
+            // neighbours anyway).
             if self.model.sim.is_stepped() {
                 ui.selectable_value(&mut self.model.colouring, Colouring::Energy, "energy")
-                    .on_hover_text(
-                        "potential energy of each disc's pairs: blue bound, grey free, red repelled",
-                    );
-                ui.separator();
-                ui.checkbox(&mut self.model.bonds, "bonds").on_hover_text(format!(
-                    "B: a line between the {} of each pair inside a well or shoulder",
-                    particles::<D>()
-                ));
+                    .on_hover_text(if D == 1 {
+                        "potential energy of each rod's pairs: blue bound, grey free, red repelled"
+                    } else {
+                        "potential energy of each disc's pairs: blue bound, grey free, red repelled"
+                    });
+                if D != 1 {
+                    ui.separator();
+                    ui.checkbox(&mut self.model.bonds, "bonds")
+                        .on_hover_text(format!(
+                            "B: a line between the {} of each pair inside a well or shoulder",
+                            particles::<D>()
+                        ));
+                }
             }
             if (self.model.colouring, self.model.bonds) != before {
                 self.redraw = true;
@@ -471,11 +482,7 @@ impl<const D: usize> ViewerApp<D> {
                 row("time", format!("{:.4}", self.model.sim.time()));
                 row("events", events.to_string());
                 row(
-                    if D == 3 {
-                        "sphere collisions"
-                    } else {
-                        "disc collisions"
-                    },
+                    &format!("{} collisions", particle::<D>()),
                     stats.disc_disc.to_string(),
                 );
                 row("wall collisions", stats.wall.to_string());
@@ -484,6 +491,15 @@ impl<const D: usize> ViewerApp<D> {
                     format!("{:.0}", self.rates.collisions_per_second),
                 );
                 row("frames / s", format!("{:.1}", self.rates.fps));
+                if self.model.sim.self_gravity().is_some() {
+                    let (k, u) = (
+                        self.model.sim.kinetic_energy(),
+                        self.model.sim.self_gravity_energy(),
+                    );
+                    row("kinetic energy K", format!("{k:.6}"));
+                    row("self-gravity energy U", format!("{u:.6}"));
+                    row("K + U", format!("{:.9}", k + u));
+                }
                 if self.model.sim.is_stepped() {
                     row("step events", stats.step.to_string());
                     row(
@@ -506,6 +522,8 @@ impl<const D: usize> ViewerApp<D> {
         };
         if D == 3 {
             ui.small(format!("Drag the picture to turn the view. Keys: space play/pause, right arrow one event, F one frame, R restart, V reverse, C colouring{b}, arrows up/down tilt."));
+        } else if D == 1 {
+            ui.small("Click a rod to tag it: its dot in the phase plane is ringed; click again to untag. Keys: space play/pause, right arrow one event, F one frame, R restart, V reverse, C colouring.");
         } else {
             ui.small(format!("Click a disc to tag it and draw its path; click again to untag. Keys: space play/pause, right arrow one event, F one frame, R restart, V reverse, C colouring{b}."));
         }
@@ -518,15 +536,42 @@ impl<const D: usize> ViewerApp<D> {
                 PlotPoints::new(self.model.temperature_series()),
             ));
         });
-        ui.label("pressure (virial)");
-        fixed_plot("pressure", h).include_y(0.0).show(ui, |p| {
-            p.line(Line::new(
-                "P",
-                PlotPoints::new(self.model.pressure_series().to_vec()),
-            ));
+        if self.model.sim.self_gravity().is_some() {
+            // The collision virial leaves out gravity's pull, so the sheets' pressure would be
+            // that of a gas filling the walled line; their virial theorem is 2<K> = <U>.
+            ui.label("virial ratio 2K/U (1 on average)");
+            fixed_plot("virial", h)
+                .include_y(0.0)
+                .include_y(1.5)
+                .show(ui, |p| {
+                    p.line(Line::new(
+                        "2K/U",
+                        PlotPoints::new(self.model.virial_series().to_vec()),
+                    ));
+                });
+        } else {
+            ui.label(if D == 1 {
+                "pressure (virial; a force on a line)"
+            } else {
+                "pressure (virial)"
+            });
+            fixed_plot("pressure", h).include_y(0.0).show(ui, |p| {
+                p.line(Line::new(
+                    "P",
+                    PlotPoints::new(self.model.pressure_series().to_vec()),
+                ));
+            });
+        }
+        let law = match D {
+            1 => "Gaussian",
+            3 => "Maxwell",
+            _ => "Rayleigh",
+        };
+        ui.label(if D == 1 {
+            format!("velocities against Maxwell-Boltzmann ({law})")
+        } else {
+            format!("speeds against Maxwell-Boltzmann ({law})")
         });
-        let law = if D == 3 { "Maxwell" } else { "Rayleigh" };
-        ui.label(format!("speeds against Maxwell-Boltzmann ({law})"));
         let bins = self.model.speeds();
         let width = bins.get(1).map_or(1.0, |b| b.speed - bins[0].speed);
         fixed_plot("speeds", h)
@@ -599,6 +644,83 @@ impl<const D: usize> ViewerApp<D> {
         }
     }
 
+    /// On a line, the phase plane: one dot per rod at its position and velocity (the sheets'
+    /// positions under self-gravity), in the rods' colours, the tagged rods' dots ringed.
+    fn phase_plane(&mut self, ui: &mut egui::Ui) {
+        let points = self.model.phase_points();
+        let colours = match self.model.scene() {
+            AnyScene::Line(s) => s.colours,
+            _ => Vec::new(),
+        };
+        let sheets = self.model.sim.self_gravity().is_some();
+        let mut bounds = points.iter().fold(self.phase_bounds, |b, &[x, v]| {
+            let [x0, x1, v0, v1] = b.unwrap_or([x, x, v, v]);
+            Some([x0.min(x), x1.max(x), v0.min(v), v1.max(v)])
+        });
+        if !sheets {
+            // Rods fill their line: show all of it.
+            let l = self.model.sim.sim_box().lengths[0];
+            bounds = bounds.map(|[_, _, v0, v1]| [0.0, l, v0, v1]);
+        }
+        self.phase_bounds = bounds;
+        let mut groups: std::collections::BTreeMap<[u8; 3], Vec<[f64; 2]>> = Default::default();
+        for (i, &p) in points.iter().enumerate() {
+            let c = colours.get(i).copied().unwrap_or([31, 119, 180]);
+            groups.entry(c).or_default().push(p);
+        }
+        let tagged: Vec<[f64; 2]> = self
+            .model
+            .trails()
+            .tagged()
+            .iter()
+            .filter_map(|&i| points.get(i).copied())
+            .collect();
+        let radius: f32 = match points.len() {
+            0..=100 => 3.5,
+            101..=2000 => 2.0,
+            _ => 1.2,
+        };
+        let ring = ui.visuals().strong_text_color();
+        let mut plot = Plot::new("phase plane")
+            .allow_drag(false)
+            .allow_zoom(false)
+            .allow_scroll(false)
+            .allow_boxed_zoom(false)
+            .x_axis_label(if sheets {
+                "sheet position (rods' lengths taken out)"
+            } else {
+                "position x"
+            })
+            .y_axis_label("velocity v")
+            .include_y(0.0);
+        if let Some([x0, x1, v0, v1]) = bounds {
+            plot = plot.include_x(x0).include_x(x1).include_y(v0).include_y(v1);
+        }
+        ui.label(format!(
+            "phase plane: one dot per {} at (x, v)",
+            if sheets { "sheet" } else { "rod" }
+        ));
+        plot.show(ui, |p| {
+            for (c, pts) in groups {
+                let [r, g, b] = c;
+                p.points(
+                    Points::new("", PlotPoints::new(pts))
+                        .radius(radius)
+                        .color(Color32::from_rgb(r, g, b)),
+                );
+            }
+            if !tagged.is_empty() {
+                p.points(
+                    Points::new("tagged", PlotPoints::new(tagged))
+                        .shape(MarkerShape::Circle)
+                        .filled(false)
+                        .radius(6.0)
+                        .color(ring),
+                );
+            }
+        });
+    }
+
     /// Uploads a finished picture as the texture.
     fn show(&mut self, ctx: &egui::Context, pic: Picture) {
         let t0 = Instant::now();
@@ -661,7 +783,20 @@ impl<const D: usize> eframe::App for ViewerApp<D> {
         let [r, g, b] = OUTSIDE;
         egui::CentralPanel::default()
             .frame(egui::Frame::NONE.fill(Color32::from_rgb(r, g, b)))
-            .show(ctx, |ui| self.picture(ui));
+            .show(ctx, |ui| {
+                if D == 1 {
+                    // The line is a low strip; the room beneath it holds the phase plane.
+                    let strip = (ui.available_height() * 0.22).clamp(60.0, 160.0);
+                    let width = ui.available_width();
+                    ui.allocate_ui(egui::vec2(width, strip), |ui| self.picture(ui));
+                    egui::Frame::NONE
+                        .fill(ctx.style().visuals.panel_fill)
+                        .inner_margin(8.0)
+                        .show(ui, |ui| self.phase_plane(ui));
+                } else {
+                    self.picture(ui);
+                }
+            });
         if self.playing && !self.painter.busy() {
             ctx.request_repaint();
         }
@@ -697,20 +832,20 @@ fn fixed_plot(id: &str, h: f32) -> Plot<'static> {
         .allow_boxed_zoom(false)
 }
 
-/// What the particles are called in dimension `D`: "discs" or "spheres".
+/// What the particles are called in dimension `D`: "rods", "discs" or "spheres".
 fn particles<const D: usize>() -> &'static str {
-    if D == 3 {
-        "spheres"
-    } else {
-        "discs"
+    match D {
+        1 => "rods",
+        3 => "spheres",
+        _ => "discs",
     }
 }
 
-/// One of [`particles`]: "disc" or "sphere".
+/// One of [`particles`]: "rod", "disc" or "sphere".
 fn particle<const D: usize>() -> &'static str {
-    if D == 3 {
-        "sphere"
-    } else {
-        "disc"
+    match D {
+        1 => "rod",
+        3 => "sphere",
+        _ => "disc",
     }
 }

@@ -77,7 +77,7 @@ pub struct ViewArgs {
     #[arg(long, value_enum, default_value_t = ColourArg::File)]
     pub colour: ColourArg,
     /// Stepped potentials: draw a bond between the discs of each pair inside a well or shoulder
-    /// (B toggles it in the window).
+    /// (B toggles it in the window; 2D and 3D).
     #[arg(long)]
     pub bonds: bool,
     /// Simulated time per second of wall time (default: a disc of RMS speed crosses a
@@ -113,8 +113,10 @@ fn parse_size(s: &str) -> Result<[f32; 2], String> {
     }
 }
 
-/// A simulation of either dimension.
+/// A simulation of any dimension.
 pub enum AnySimulation {
+    /// Rods on a line (self-gravitating sheets among them).
+    One(Simulation<1>),
     /// Discs.
     Two(Simulation<2>),
     /// Spheres.
@@ -182,7 +184,20 @@ impl ViewArgs {
         ))
     }
 
-    /// The simulation to show, in the dimension of its file (generated systems are 2D).
+    /// Refuses `--bonds` for rods on a line: the picture is a strip with no room for bonds, and
+    /// the rods of a pair inside a well are neighbours on the line anyway.
+    pub fn check_line(&self) -> Result<()> {
+        if !self.bonds {
+            return Ok(());
+        }
+        let what = self.file.as_deref().unwrap_or("-");
+        user_error(format!(
+            "{what}: --bonds draws lines between discs or spheres; rods on a line have none (--colour energy shows their pairs' energy)"
+        ))
+    }
+
+    /// The simulation to show, in the dimension of its file (1, 2 or 3; generated systems are
+    /// 2D).
     pub fn simulation_any(&self) -> Result<AnySimulation> {
         if let Some(kind) = &self.gen {
             return self.generated(kind).map(AnySimulation::Two);
@@ -195,11 +210,9 @@ impl ViewArgs {
             edmd_io::AnyLoaded::Three(sys) => {
                 build(path, &sys, Options::default()).map(AnySimulation::Three)
             }
-            // The window's panels (the speed histogram against Maxwell's law, the trails in a
-            // plane) are those of discs and spheres; `edmd render` draws a line of rods.
-            edmd_io::AnyLoaded::One(_) => user_error(format!(
-                "{path}: a 1D file (rods on a line): the viewer shows 2D and 3D systems; draw rods with edmd render {path} --until T -o rods.gif"
-            )),
+            edmd_io::AnyLoaded::One(sys) => {
+                build(path, &sys, Options::default()).map(AnySimulation::One)
+            }
         }
     }
 
@@ -406,15 +419,55 @@ mod tests {
         assert!(e.to_string().contains("cannot read"));
     }
 
+    /// A 1D file opens as rods on a line (it was refused, naming `edmd render`): the rods
+    /// where the file puts them, drawn as a strip, and the example file of the guide too.
     #[test]
-    fn a_1d_file_is_refused_in_one_line_naming_the_renderer() {
+    fn a_1d_file_opens_as_rods_on_a_line() {
+        use crate::model::Model;
+        use edmd_draw::AnyScene;
         let dir = tempfile::tempdir().unwrap();
         let path = dir.path().join("rods.txt");
         std::fs::write(&path, "1\n# edmd dim 1\n# edmd box 4\n1 1 0.5 1 0 0 0\n").unwrap();
         let a = parse(&[path.to_str().unwrap()]).unwrap();
-        let e = a.simulation_any().err().unwrap().to_string();
-        assert!(e.contains("a 1D file (rods on a line)"), "{e}");
-        assert!(e.contains("edmd render"), "{e}");
-        assert!(!e.contains('\n'));
+        let Ok(AnySimulation::One(sim)) = a.simulation_any() else {
+            panic!("a 1D file did not open as rods on a line");
+        };
+        assert_eq!((sim.len(), sim.sim_box().lengths), (1, [4.0]));
+        a.check_line().unwrap();
+        let m = Model::new(sim, Colouring::File);
+        match m.scene() {
+            AnyScene::Line(s) => {
+                assert_eq!((s.length, s.periodic), (4.0, false));
+                assert_eq!((s.positions, s.radii), (vec![1.0], vec![0.5]));
+            }
+            _ => panic!("rods drawn as discs or spheres"),
+        }
+        assert_eq!(m.phase_points(), vec![[1.0, 1.0]]);
+
+        let example = concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/../../examples/data/rods-1d.txt"
+        );
+        let Ok(AnySimulation::One(sim)) = parse(&[example]).unwrap().simulation_any() else {
+            panic!("{example} did not open as rods on a line");
+        };
+        assert_eq!(sim.len(), 12);
+        assert!(sim.sim_box().is_periodic(0));
+    }
+
+    #[test]
+    fn bonds_are_refused_on_a_line() {
+        let a = parse(&["rods.txt", "--bonds"]).unwrap();
+        let e = a.check_line().unwrap_err();
+        assert!(e.downcast_ref::<edmd::UserError>().is_some());
+        let e = e.to_string();
+        assert!(
+            e.starts_with("rods.txt: --bonds") && e.contains("rods on a line"),
+            "{e}"
+        );
+        parse(&["rods.txt", "--colour", "energy"])
+            .unwrap()
+            .check_line()
+            .unwrap();
     }
 }

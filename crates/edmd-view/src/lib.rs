@@ -17,6 +17,11 @@
 //! pressure against time and the speed histogram against the Rayleigh law, with counters.
 //! A 3D file (`# edmd dim 3`) is shown as shaded spheres in an orthographic view that turns
 //! when the picture is dragged (and with the up, down and left arrow keys).
+//! A 1D file (`# edmd dim 1`) is shown as rods on a line, drawn as `edmd render` draws them,
+//! above its phase plane: one dot per rod at its position and velocity (for self-gravitating
+//! sheets, the sheets' positions, so that a water bag winds up into its spiral); the velocity
+//! histogram is compared with the 1D law, a Gaussian, and under self-gravity the virial ratio
+//! `2K/U` takes the pressure's place.
 //! A file with reaction rules (`# edmd reaction`) runs reactive, as `edmd run` runs it: the
 //! colours are read from the simulation at every frame, so a disc that reacts is drawn in its
 //! new species' colour from then on.
@@ -70,6 +75,12 @@ pub fn main() -> ExitCode {
     }
     let checked = |stepped: bool| args.check_potential(stepped);
     match args.simulation_any() {
+        Ok(args::AnySimulation::One(sim)) => {
+            match args.check_line().and_then(|()| checked(sim.is_stepped())) {
+                Ok(()) => show(&args, sim),
+                Err(e) => edmd::front::exit_with("edmd-view", Err(e)),
+            }
+        }
         Ok(args::AnySimulation::Two(sim)) => match checked(sim.is_stepped()) {
             Ok(()) => show(&args, sim),
             Err(e) => edmd::front::exit_with("edmd-view", Err(e)),

@@ -1,10 +1,11 @@
 //! The simulation side of the viewer, free of GUI types so that it can be tested without a
 //! window: the running simulation and its initial state, the tagged discs and their trails, and
-//! the live measurements (temperature, pressure, speed histogram).
+//! the live measurements (temperature, pressure, speed histogram), and on a line the phase
+//! plane.
 
 use edmd_core::measure::{kinetic_temperature, Pressure, Speeds, Temperature};
 use edmd_core::{EventKind, EventRecord, Observer, Simulation, Vector};
-use edmd_draw::{AnyScene, Colouring, Scene, Scene3, View};
+use edmd_draw::{AnyScene, Colouring, Scene, Scene3, SceneLine, View};
 
 /// Most points kept per trail; older points are dropped.
 pub const MAX_TRAIL_POINTS: usize = 50_000;
@@ -102,14 +103,16 @@ impl<const D: usize> Observer<D> for Trails<D> {
     }
 }
 
-/// One bin of the speed histogram against the Maxwell-Boltzmann law (Rayleigh in 2D).
+/// One bin of the speed histogram against the Maxwell-Boltzmann law (Rayleigh in 2D); on a
+/// line, of the velocity histogram against the Gaussian.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SpeedBin {
-    /// Speed at the centre of the bin.
+    /// Speed at the centre of the bin (on a line, the velocity, of either sign).
     pub speed: f64,
     /// Measured probability density.
     pub density: f64,
-    /// Density of the law (Rayleigh in 2D, Maxwell in 3D) at the measured temperature.
+    /// Density of the law (Gaussian in 1D, Rayleigh in 2D, Maxwell in 3D) at the measured
+    /// temperature.
     pub rayleigh: f64,
 }
 
@@ -130,6 +133,7 @@ pub struct Model<const D: usize = 2> {
     pressure: Pressure,
     temperature: Temperature,
     pressure_series: Vec<[f64; 2]>,
+    virial_series: Vec<[f64; 2]>,
     speeds: Vec<SpeedBin>,
 }
 
@@ -146,6 +150,7 @@ impl<const D: usize> Model<D> {
             trails: Trails::default(),
             temperature: Temperature::new(),
             pressure_series: Vec::new(),
+            virial_series: Vec::new(),
             speeds: Vec::new(),
         };
         m.sample();
@@ -186,6 +191,7 @@ impl<const D: usize> Model<D> {
         self.pressure = Pressure::new(&self.sim);
         self.temperature = Temperature::new();
         self.pressure_series.clear();
+        self.virial_series.clear();
         self.trails.restart(&self.sim);
         self.sample();
     }
@@ -206,8 +212,9 @@ impl<const D: usize> Model<D> {
     }
 
     /// Closes a measurement block: appends the temperature and the pressure over the time since
-    /// the last sample to their series, and takes a new speed histogram. The pressure needs
-    /// simulated time to have passed since the last sample.
+    /// the last sample to their series (under self-gravity the virial ratio too), and takes a
+    /// new speed histogram. The pressure needs simulated time to have passed since the last
+    /// sample.
     pub fn sample(&mut self) {
         let t = self.sim.time();
         if self
@@ -217,6 +224,9 @@ impl<const D: usize> Model<D> {
             .is_none_or(|&(t0, _)| t > t0)
         {
             self.temperature.sample(&self.sim);
+            if let Some(ratio) = virial_ratio(&self.sim) {
+                self.virial_series.push([t, ratio]);
+            }
         }
         let before = self.pressure.blocks().len();
         self.pressure.sample(&self.sim);
@@ -240,14 +250,43 @@ impl<const D: usize> Model<D> {
         &self.pressure_series
     }
 
-    /// The speed histogram of the last sample.
+    /// `2K/U` against time under self-gravity (empty without it): the sheets' virial ratio,
+    /// which the virial theorem puts at 1 on time averages.
+    pub fn virial_series(&self) -> &[[f64; 2]] {
+        &self.virial_series
+    }
+
+    /// The speed histogram of the last sample (on a line, the velocity histogram).
     pub fn speeds(&self) -> &[SpeedBin] {
         &self.speeds
     }
 
+    /// On a line, the phase plane now: `[x, v]` for every rod, in input order, with `x` the
+    /// sheet's position under self-gravity ([`Simulation::sheet_positions`]: the rods' lengths
+    /// taken out, so that the sheets pass through each other as the model has them); empty in
+    /// 2D and 3D.
+    pub fn phase_points(&self) -> Vec<[f64; 2]> {
+        if D != 1 {
+            return Vec::new();
+        }
+        let v = (0..self.sim.len()).map(|i| self.sim.velocity(i)[0]);
+        match self.sim.sheet_positions() {
+            Some(x) => x.into_iter().zip(v).map(|(x, v)| [x, v]).collect(),
+            None => (0..self.sim.len())
+                .map(|i| self.sim.position(i)[0])
+                .zip(v)
+                .map(|(x, v)| [x, v])
+                .collect(),
+        }
+    }
+
     /// What to draw now: discs with the trails of the tagged ones, or spheres in
-    /// [`Self::view`], with their bonds if [`Self::bonds`] is set.
+    /// [`Self::view`], with their bonds if [`Self::bonds`] is set, or rods on a line (as
+    /// `edmd render` draws them; no bonds).
     pub fn scene(&self) -> AnyScene {
+        if D == 1 {
+            return AnyScene::Line(SceneLine::capture(&self.sim, self.colouring));
+        }
         if D == 3 {
             let mut scene = Scene3::capture(&self.sim, self.colouring);
             if self.bonds {
@@ -271,7 +310,8 @@ impl<const D: usize> Model<D> {
 }
 
 /// Speed histogram of the current velocities, `bins` bins up to four times the RMS speed, with
-/// the Rayleigh density at the current temperature.
+/// the Maxwell-Boltzmann density (Rayleigh in 2D) at the current temperature; on a line,
+/// [`velocity_histogram`].
 pub fn speed_histogram<const D: usize>(sim: &Simulation<D>, bins: usize) -> Vec<SpeedBin> {
     let n = sim.len();
     if n == 0 {
@@ -280,6 +320,9 @@ pub fn speed_histogram<const D: usize>(sim: &Simulation<D>, bins: usize) -> Vec<
     let rms = ((0..n).map(|i| sim.velocity(i).norm2()).sum::<f64>() / n as f64).sqrt();
     if rms <= 0.0 || !rms.is_finite() {
         return Vec::new();
+    }
+    if D == 1 {
+        return velocity_histogram(sim, bins, rms);
     }
     let mut speeds = Speeds::new(bins, 4.0 * rms);
     speeds.sample(sim);
@@ -292,6 +335,62 @@ pub fn speed_histogram<const D: usize>(sim: &Simulation<D>, bins: usize) -> Vec<
             rayleigh,
         })
         .collect()
+}
+
+/// On a line the Maxwell-Boltzmann law is the velocity's, a Gaussian of variance `kT/m`
+/// (mixed over the rods' masses): `bins` bins of the velocities from `-4 rms` to `4 rms`, with
+/// that density at the current temperature.
+fn velocity_histogram<const D: usize>(sim: &Simulation<D>, bins: usize, rms: f64) -> Vec<SpeedBin> {
+    let n = sim.len();
+    let (lo, width) = (-4.0 * rms, 8.0 * rms / bins as f64);
+    let mut counts = vec![0usize; bins];
+    for i in 0..n {
+        let k = ((sim.velocity(i)[0] - lo) / width).floor();
+        if k >= 0.0 && k < bins as f64 {
+            counts[k as usize] += 1;
+        }
+    }
+    let kt = kinetic_temperature(sim);
+    // The rods' masses with how many have each: usually one or two.
+    let mut masses: Vec<f64> = (0..n).map(|i| sim.mass(i)).collect();
+    masses.sort_by(f64::total_cmp);
+    let mut groups: Vec<(f64, usize)> = Vec::new();
+    for m in masses {
+        match groups.last_mut() {
+            Some((last, count)) if *last == m => *count += 1,
+            _ => groups.push((m, 1)),
+        }
+    }
+    let gaussian = |v: f64| {
+        groups
+            .iter()
+            .map(|&(m, count)| {
+                let a = m / kt;
+                count as f64 * (a / (2.0 * std::f64::consts::PI)).sqrt() * (-a * v * v / 2.0).exp()
+            })
+            .sum::<f64>()
+            / n as f64
+    };
+    counts
+        .into_iter()
+        .enumerate()
+        .map(|(k, c)| {
+            let v = lo + (k as f64 + 0.5) * width;
+            SpeedBin {
+                speed: v,
+                density: c as f64 / (n as f64 * width),
+                rayleigh: gaussian(v),
+            }
+        })
+        .collect()
+}
+
+/// The virial ratio `2K/U` of self-gravitating sheets (`None` without self-gravity, or while
+/// `U` is 0).
+pub fn virial_ratio<const D: usize>(sim: &Simulation<D>) -> Option<f64> {
+    sim.self_gravity()?;
+    let u = sim.self_gravity_energy();
+    (u > 0.0).then(|| 2.0 * sim.kinetic_energy() / u)
 }
 
 /// A default pace: simulated time per second of wall time at which a disc of RMS speed crosses
@@ -443,6 +542,131 @@ mod tests {
     #[test]
     fn default_speed_crosses_a_twentieth_of_the_box_per_second() {
         assert_eq!(default_speed(&pair()), 0.5);
+    }
+
+    /// Two rods head on between walls: contact at t = 1 (gap 2, closing at 2).
+    fn rods() -> Simulation<1> {
+        let discs = [
+            Disc::new(Vector([3.0]), Vector([1.0]), 1.0),
+            Disc::new(Vector([7.0]), Vector([-1.0]), 1.0),
+        ];
+        Simulation::new(&discs, SimBox::walls([10.0]), Options::default()).unwrap()
+    }
+
+    #[test]
+    fn stepping_a_line_advances_event_by_event_and_reverses_and_restarts() {
+        let mut m = Model::new(rods(), Colouring::File);
+        let e = m.step_event().unwrap();
+        assert_eq!(e.kind, EventKind::DiscDisc { i: 0, j: 1 });
+        assert_eq!(m.sim.time(), 1.0);
+        assert_eq!(m.phase_points(), vec![[4.0, -1.0], [6.0, 1.0]]);
+        // Then each reaches its wall (at 1 and 9) at t = 4: two events.
+        for _ in 0..2 {
+            let e = m.step_event().unwrap();
+            assert!(matches!(e.kind, EventKind::Wall { .. }), "{e:?}");
+            assert_eq!(e.time, 4.0);
+        }
+        assert_eq!(m.sim.stats().disc_disc, 1);
+        assert_eq!(m.sim.stats().wall, 2);
+        // Reversed at t = 5, the rods retrace their paths: at t = 10 they are where they
+        // started, moving the other way, after a second collision.
+        m.run_until(5.0);
+        m.reverse();
+        m.run_until(10.0);
+        assert_eq!(m.sim.stats().disc_disc, 2);
+        assert_eq!(m.phase_points(), vec![[3.0, -1.0], [7.0, 1.0]]);
+        m.restart();
+        assert_eq!(m.sim.time(), 0.0);
+        assert_eq!(m.phase_points(), vec![[3.0, 1.0], [7.0, -1.0]]);
+        match m.scene() {
+            AnyScene::Line(s) => assert_eq!(s.positions, vec![3.0, 7.0]),
+            _ => panic!("rods drawn as discs or spheres"),
+        }
+    }
+
+    /// A water bag's phase plane holds its sheets, not its rods: the sheets' positions (the
+    /// rods' lengths taken out) and the velocities, in input order, as they move.
+    #[test]
+    fn a_water_bags_phase_plane_is_its_sheets() {
+        use edmd_core::setup::sheets::WaterBag;
+        use edmd_core::SelfGravity;
+        let n = 40;
+        let coupling = 1.0 / n as f64;
+        let (discs, sim_box) = WaterBag {
+            n,
+            width: 1.0,
+            speed: 1.0,
+            radius: 1e-3,
+            coupling,
+            seed: 3,
+        }
+        .build()
+        .unwrap();
+        let mut sim = Simulation::new(&discs, sim_box, Options::default()).unwrap();
+        sim.set_self_gravity(Some(SelfGravity { coupling }))
+            .unwrap();
+        let mut m = Model::new(sim, Colouring::Speed);
+        for k in 1..=4 {
+            m.run_until(k as f64);
+            m.sample();
+        }
+        assert!(m.sim.stats().disc_disc > 100, "{:?}", m.sim.stats());
+        let sheets = m.sim.sheet_positions().unwrap();
+        let expected: Vec<[f64; 2]> = (0..n).map(|i| [sheets[i], m.sim.velocity(i)[0]]).collect();
+        assert_eq!(m.phase_points(), expected);
+        // Not the rods' positions: those are the sheets' spread by the rods' lengths.
+        let rod_x: Vec<f64> = (0..n).map(|i| m.sim.position(i)[0]).collect();
+        assert!(m
+            .phase_points()
+            .iter()
+            .zip(&rod_x)
+            .any(|(p, x)| (p[0] - x).abs() > 1e-3));
+        // The panel beside it follows the virial ratio 2K/U, near 1 for this bag.
+        let ratios = m.virial_series();
+        assert_eq!(ratios.len(), 5);
+        assert!(
+            ratios.iter().all(|&[_, r]| r > 0.3 && r < 3.0),
+            "{ratios:?}"
+        );
+        assert!(matches!(m.scene(), AnyScene::Line(_)));
+        // Without self-gravity there is no virial ratio.
+        assert!(Model::new(rods(), Colouring::File)
+            .virial_series()
+            .is_empty());
+    }
+
+    /// On a line the velocities are compared with the Gaussian, `sqrt(m / (2 pi kT))` at 0,
+    /// over bins centred from `-4 rms` to `4 rms` holding every velocity.
+    #[test]
+    fn a_line_compares_velocities_with_the_gaussian() {
+        let mut m = Model::new(rods(), Colouring::File);
+        m.sample();
+        let h = m.speeds();
+        assert_eq!(h.len(), 40);
+        let width = h[1].speed - h[0].speed;
+        assert!(
+            (h[0].speed + 4.0 - width / 2.0).abs() < 1e-12,
+            "{}",
+            h[0].speed
+        );
+        let total: f64 = h.iter().map(|b| b.density).sum::<f64>() * width;
+        assert!((total - 1.0).abs() < 1e-12);
+        // kT = m <v^2> = 1: the weight is in the bins holding -1 and 1, none at 0.
+        let at = |v: f64| {
+            h.iter()
+                .find(|b| (b.speed - v).abs() < width / 2.0)
+                .unwrap()
+        };
+        assert_eq!(at(0.01).density, 0.0);
+        assert!(at(1.0 - 1e-9).density + at(1.0 + 1e-9).density > 0.0);
+        let peak = (2.0 * std::f64::consts::PI).sqrt().recip();
+        let b = at(0.05);
+        let expected = peak * (-b.speed * b.speed / 2.0).exp();
+        assert!(
+            (b.rayleigh - expected).abs() < 1e-12,
+            "{} vs {expected}",
+            b.rayleigh
+        );
     }
 
     #[test]

@@ -288,3 +288,47 @@ fn bonds_and_energy_colours_under_xvfb() {
     assert!(orange > 2_000, "bond pixels: {orange}");
     assert!(blue > 20_000, "bound disc pixels: {blue}");
 }
+
+/// A 1D file opens as rods on a line above its phase plane: the strip shows the rods' bars in
+/// their file colours (the twelve rods of the guide's example, three of each colour), and the
+/// summary counts rods.
+#[test]
+fn rods_under_xvfb() {
+    if !on_path("xvfb-run") {
+        if std::env::var_os("CI").is_some() {
+            panic!("xvfb-run is not installed, and CI is set: install xvfb and xauth");
+        }
+        use std::io::Write;
+        let _ = writeln!(
+            std::io::stderr(),
+            "SKIPPED rods_under_xvfb: xvfb-run is not installed (apt-get install xvfb xauth)"
+        );
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let shot = dir.path().join("out.png");
+    let file = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/data/rods-1d.txt");
+    let out = run_with_timeout(
+        Command::new("xvfb-run")
+            .args(["-a", "-s", "-screen 0 1280x800x24", BIN])
+            .arg(&file)
+            .args(["--fps-report", "--quit-after", "3", "--screenshot"])
+            .arg(&shot)
+            .env_remove("WAYLAND_DISPLAY"),
+        Duration::from_secs(120),
+    );
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        out.status.success(),
+        "status {:?}; stderr: {stderr}",
+        out.status
+    );
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(stdout.contains(", 12 rods;"), "stdout: {stdout}");
+    let (_, _, pixels) = read_png(&shot);
+    // Each rod is a bar of a twentieth of the line and 24 pixels high.
+    for colour in [[220, 60, 40], [40, 90, 200], [240, 170, 20], [40, 160, 80]] {
+        let n = pixels.iter().filter(|p| **p == colour).count();
+        assert!(n > 1_000, "{colour:?}: {n} pixels");
+    }
+}
