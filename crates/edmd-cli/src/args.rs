@@ -161,8 +161,8 @@ impl RunArgs {
 /// `edmd bench`.
 #[derive(Debug, Args)]
 pub struct BenchArgs {
-    /// Dimension: 2 (discs) or 3 (spheres).
-    #[arg(long, default_value_t = 2, value_parser = parse_dim)]
+    /// Dimension: 2 (discs), 3 (spheres) or 1 (rods on a line).
+    #[arg(long, default_value_t = 2, value_parser = parse_dim_with_rods)]
     pub dim: usize,
     /// Number of discs (spheres in 3D).
     #[arg(long, value_parser = parse_count, allow_negative_numbers = true)]

@@ -10,6 +10,7 @@ mod generators;
 mod gravity;
 mod inelastic;
 mod invariants;
+mod memory;
 mod naive_reference;
 mod pack;
 mod pack_checkpoint;

@@ -46,6 +46,11 @@ pub struct BenchResult {
     pub stale: u64,
     /// Wall-clock seconds of the timed event loop.
     pub seconds: f64,
+    /// Wall-clock seconds to make the lattice, its velocities and the engine (cells, every
+    /// disc's first prediction), before melting.
+    pub setup_seconds: f64,
+    /// Wall-clock seconds of melting (`--melt` collisions per disc).
+    pub melt_seconds: f64,
     /// Disc-disc collisions per second.
     pub collisions_per_second: f64,
     /// Which copy of the event loop ran: `x86-64-v3` or `portable`.
@@ -63,6 +68,7 @@ pub struct BenchResult {
 /// Runs the benchmark.
 pub fn run(args: &BenchArgs) -> Result<()> {
     let result = match args.dim {
+        1 => bench::<1>(args)?,
         3 => bench::<3>(args)?,
         _ => bench::<2>(args)?,
     };
@@ -76,11 +82,29 @@ fn bench<const D: usize>(args: &BenchArgs) -> Result<BenchResult> {
         BoundaryArg::Periodic => Boundary::Periodic,
         BoundaryArg::Walls => Boundary::Walls,
     };
-    use crate::commands::experiment::common::{check_count, check_n, check_packings};
-    check_n("bench", args.n, 2)?;
+    use crate::commands::experiment::common::{check_count, check_packings};
+    if !(2..=MAX_BENCH_N).contains(&args.n) {
+        return user_error(format!(
+            "bench: --n must be from 2 to {MAX_BENCH_N}, found {}",
+            args.n
+        ));
+    }
+    let need = args.n as f64 * BYTES_PER_DISC_AT_PEAK[D - 1];
+    if let Some(free) = available_bytes() {
+        if need > free as f64 {
+            return user_error(format!(
+                "bench: {} {} need about {:.1} GB at peak and this machine has {:.1} GB available",
+                args.n,
+                if D == 3 { "spheres" } else { "discs" },
+                need / 1e9,
+                free as f64 / 1e9
+            ));
+        }
+    }
     check_packings("bench", &[args.packing], close_packing(D))?;
     check_count("bench", "melt", args.melt, 0, 100_000)?;
     check_count("bench", "collisions", args.collisions, 1, 100_000)?;
+    let started = Instant::now();
     let (mut discs, sim_box) =
         match lattice_fluid_in::<D>(args.n, args.packing, boundary, args.seed) {
             Ok(x) => x,
@@ -103,15 +127,17 @@ fn bench<const D: usize>(args: &BenchArgs) -> Result<BenchResult> {
         }
     };
     let mut sim =
-        Simulation::with_potential_at(&discs, sim_box, &[], &potential, Options::default(), 0.0)
+        Simulation::with_potential_owned(discs, sim_box, &[], &potential, Options::default(), 0.0)
             .or_else(|e| user_error(format!("bench: {e}")))?;
-    drop(discs);
+    let setup_seconds = started.elapsed().as_secs_f64();
     let v3 = sim.set_portable_loop(args.portable);
     let e0 = sim.kinetic_energy() + sim.potential_energy();
     let melt = args.melt * args.n as u64;
+    let started = Instant::now();
     while sim.stats().disc_disc < melt {
         edmd::run_events(&mut sim, 1 << 16)?;
     }
+    let melt_seconds = started.elapsed().as_secs_f64();
     let before = sim.stats();
     let target = before.disc_disc + args.collisions * args.n as u64;
     let started = Instant::now();
@@ -144,6 +170,8 @@ fn bench<const D: usize>(args: &BenchArgs) -> Result<BenchResult> {
             .map(|_| after.neighbour_list - before.neighbour_list),
         stale: after.stale - before.stale,
         seconds,
+        setup_seconds,
+        melt_seconds,
         collisions_per_second: collisions as f64 / seconds,
         event_loop: if v3 { "x86-64-v3" } else { "portable" },
         grid: sim.grid_dims().to_vec(),
@@ -152,6 +180,23 @@ fn bench<const D: usize>(args: &BenchArgs) -> Result<BenchResult> {
         relative_energy_change: (sim.kinetic_energy() + sim.potential_energy() - e0) / e0.abs(),
     };
     Ok(result)
+}
+
+/// The most discs a bench takes: disc indices are 32-bit, and 2^31 discs already need about
+/// 250 GB.
+const MAX_BENCH_N: usize = 1 << 31;
+
+/// Peak bytes per disc of a bench, with a margin, by dimension (BENCHMARKS.md, "Memory at
+/// scale": 117 in 1D and 2D, 175 in 3D at 10^6).
+const BYTES_PER_DISC_AT_PEAK: [f64; 3] = [130.0, 130.0, 190.0];
+
+/// MemAvailable from /proc/meminfo (Linux), in bytes: a bench that cannot fit is refused
+/// rather than stopped by the kernel halfway.
+fn available_bytes() -> Option<u64> {
+    let s = std::fs::read_to_string("/proc/meminfo").ok()?;
+    let line = s.lines().find(|l| l.starts_with("MemAvailable:"))?;
+    let kb: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    Some(kb * 1024)
 }
 
 /// VmHWM from /proc/self/status (Linux), in bytes.

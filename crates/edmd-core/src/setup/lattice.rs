@@ -120,7 +120,9 @@ pub fn lattice_fluid_in<const D: usize>(
     if D == 2 {
         let (discs, bx) = lattice_fluid(n, packing, boundary, seed)?;
         return Ok((
-            discs.iter().map(|d| d.with_dim()).collect(),
+            // By value: the same layout, so the discs stay in their array (no second copy of
+            // the input at 10^8 discs).
+            discs.into_iter().map(|d| d.with_dim()).collect(),
             SimBox {
                 lengths: std::array::from_fn(|a| bx.lengths[a]),
                 boundaries: [boundary; D],

@@ -141,7 +141,7 @@ impl<const D: usize> Simulation<D> {
         };
         self.body
             .iter()
-            .zip(&self.mass)
+            .zip(self.mass.iter())
             .map(|(b, m)| -m * f.g * b.position_in(self.now, self.gravity)[f.axis])
             .sum()
     }

@@ -36,6 +36,7 @@ mod event_loop;
 mod field;
 mod inelastic;
 mod options;
+mod per_disc;
 mod persist;
 mod predict;
 mod reactions;
@@ -69,6 +70,7 @@ use crate::schedule::{CalendarQueue, EventQueue};
 use crate::state::{Barrier, Colour, Disc, Gravity, Potential, SimBox, System};
 use barriers::validate_barriers;
 use check::validate_discs;
+use per_disc::PerDisc;
 
 /// Everything the event loop reads or writes for one disc: its motion (for predictions
 /// against it), its counter (to validate events naming it) and its pending event (read when
@@ -110,9 +112,9 @@ pub struct Simulation<const D: usize = 2> {
     sim_box: SimBox<D>,
     rule: CollisionRule,
     body: Records<Body<D>>,
-    mass: Vec<f64>,
-    colour: Vec<Colour>,
-    species: Vec<u16>,
+    mass: PerDisc<f64>,
+    colour: PerDisc<Colour>,
+    species: PerDisc<u16>,
     /// Periodic images crossed per disc, for unwrapped positions.
     image: Vec<[i32; D]>,
     queue: CalendarQueue,
@@ -201,6 +203,99 @@ pub(crate) const NO_DISC: usize = usize::MAX;
 /// The most internal barriers a simulation takes.
 pub const MAX_BARRIERS: usize = 8;
 
+/// The discs a simulation is built from: borrowed, or owned and given back to the allocator
+/// as they are read ([`Simulation::with_potential_owned`]).
+enum Input<'a, const D: usize> {
+    Borrowed(&'a [Disc<D>]),
+    Owned(Vec<Disc<D>>),
+}
+
+/// The engine's per-disc arrays made from the input, with the discs found outside the box
+/// (the first, and how many: each was moved in).
+struct Tables<const D: usize> {
+    body: Records<Body<D>>,
+    mass: PerDisc<f64>,
+    colour: PerDisc<Colour>,
+    species: PerDisc<u16>,
+    outside: (Option<usize>, usize),
+}
+
+impl<const D: usize> Input<'_, D> {
+    fn as_slice(&self) -> &[Disc<D>] {
+        match self {
+            Input::Borrowed(d) => d,
+            Input::Owned(d) => d,
+        }
+    }
+
+    /// The records at `t0`, each disc put in the box on its walled axes (a rounding error out
+    /// after a run wrote the state; [`Error::OutsideBox`] judges the rest).
+    fn into_tables(self, sim_box: &SimBox<D>, t0: f64) -> Tables<D> {
+        let n = self.as_slice().len();
+        let mut t = Tables {
+            body: records(n),
+            mass: PerDisc::new(),
+            colour: PerDisc::new(),
+            species: PerDisc::new(),
+            outside: (None, 0),
+        };
+        let mut take = |k: usize, d: &Disc<D>| {
+            let mut pos = sim_box.wrap(d.pos);
+            let mut moved = false;
+            for a in 0..D {
+                if sim_box.is_periodic(a) {
+                    continue;
+                }
+                let (lo, hi) = (d.radius, sim_box.lengths[a] - d.radius);
+                let tol = OVERLAP_TOLERANCE * d.radius;
+                moved |= pos[a] < lo - tol || pos[a] > hi + tol;
+                pos[a] = pos[a].clamp(lo, hi);
+            }
+            if moved {
+                t.outside.0 = Some(t.outside.0.map_or(k, |f: usize| f.min(k)));
+                t.outside.1 += 1;
+            }
+            t.body.push(Body {
+                pos,
+                vel: d.vel,
+                time: t0,
+                radius: d.radius,
+                count: 0,
+                pending: Pending::Nothing,
+            });
+            t.mass.push(d.mass);
+            t.colour.push(d.colour);
+            t.species.push(d.species);
+        };
+        match self {
+            Input::Borrowed(discs) => {
+                for (k, d) in discs.iter().enumerate() {
+                    take(k, d);
+                }
+            }
+            Input::Owned(mut discs) => {
+                // From the end, shrinking the input every sixteenth (a large array's tail pages
+                // go back to the system without a copy), then put in order.
+                let chunk = (n / 16).max(1 << 16);
+                while let Some(d) = discs.pop() {
+                    take(discs.len(), &d);
+                    if discs.len() % chunk == 0 {
+                        discs.shrink_to_fit();
+                    }
+                }
+                t.body.reverse();
+                t.mass.reverse();
+                t.colour.reverse();
+                t.species.reverse();
+            }
+        }
+        t.mass.shrink_to_fit();
+        t.colour.shrink_to_fit();
+        t.species.shrink_to_fit();
+        t
+    }
+}
+
 impl<const D: usize> Simulation<D> {
     /// Builds and validates a simulation at time 0.
     pub fn new(discs: &[Disc<D>], sim_box: SimBox<D>, options: Options) -> Result<Self, Error> {
@@ -234,7 +329,7 @@ impl<const D: usize> Simulation<D> {
         options: Options,
         t0: f64,
     ) -> Result<Self, Error> {
-        Self::assemble(discs, sim_box, barriers, None, options, t0)
+        Self::assemble(Input::Borrowed(discs), sim_box, barriers, None, options, t0)
     }
 
     /// [`Self::with_barriers_at`] with a stepped pair potential (see [`Potential`]): each pair
@@ -250,17 +345,47 @@ impl<const D: usize> Simulation<D> {
         options: Options,
         t0: f64,
     ) -> Result<Self, Error> {
-        Self::assemble(discs, sim_box, barriers, Some(potential), options, t0)
+        Self::assemble(
+            Input::Borrowed(discs),
+            sim_box,
+            barriers,
+            Some(potential),
+            options,
+            t0,
+        )
+    }
+
+    /// [`Self::with_potential_at`] taking the discs by value: their array is given back to the
+    /// allocator as the engine's own arrays fill, so that the input and the engine are never
+    /// both held whole (at 10^8 discs the input alone is 5.6 GB). The same simulation, to the
+    /// bit.
+    pub fn with_potential_owned(
+        discs: Vec<Disc<D>>,
+        sim_box: SimBox<D>,
+        barriers: &[Barrier],
+        potential: &Potential,
+        options: Options,
+        t0: f64,
+    ) -> Result<Self, Error> {
+        Self::assemble(
+            Input::Owned(discs),
+            sim_box,
+            barriers,
+            Some(potential),
+            options,
+            t0,
+        )
     }
 
     fn assemble(
-        discs: &[Disc<D>],
+        input: Input<'_, D>,
         sim_box: SimBox<D>,
         barriers: &[Barrier],
         potential: Option<&Potential>,
         options: Options,
         t0: f64,
     ) -> Result<Self, Error> {
+        let discs = input.as_slice();
         if !(t0.is_finite() && t0 >= 0.0) {
             return Err(Error::Invalid(format!(
                 "start time {t0:?} is not a finite time >= 0"
@@ -329,40 +454,6 @@ impl<const D: usize> Simulation<D> {
                 }
             }
         };
-        let mut adjusted = 0;
-        let mut body = records(discs.len());
-        let mut outside = (None, 0usize);
-        for (k, d) in discs.iter().enumerate() {
-            let mut pos = sim_box.wrap(d.pos);
-            let mut moved = false;
-            for a in 0..D {
-                if sim_box.is_periodic(a) {
-                    continue;
-                }
-                let (lo, hi) = (d.radius, sim_box.lengths[a] - d.radius);
-                let tol = OVERLAP_TOLERANCE * d.radius;
-                moved |= pos[a] < lo - tol || pos[a] > hi + tol;
-                pos[a] = pos[a].clamp(lo, hi);
-            }
-            if moved {
-                outside.0.get_or_insert(k);
-                outside.1 += 1;
-            }
-            adjusted += moved as usize;
-            body.push(Body {
-                pos,
-                vel: d.vel,
-                time: t0,
-                radius: d.radius,
-                count: 0,
-                pending: Pending::Nothing,
-            });
-        }
-        if let (Some(first), count) = outside {
-            if options.overlaps == OverlapPolicy::Refuse {
-                return Err(Error::OutsideBox { first, count });
-            }
-        }
         // Cells at least as wide as the longest reach of a pair (the largest diameter), or
         // under a stepped potential as the neighbour lists' radius, which adds the skin to the
         // outermost step.
@@ -370,24 +461,26 @@ impl<const D: usize> Simulation<D> {
             || discs.iter().map(|d| 2.0 * d.radius).fold(0.0, f64::max),
             |s| s.list_radius,
         );
-        let grid = CellGrid::new(
-            &sim_box,
-            discs.len(),
-            if discs.is_empty() { 1.0 } else { max_diameter },
-        )?;
         let min_diameter = discs
             .iter()
             .map(|d| 2.0 * d.radius)
             .fold(f64::INFINITY, f64::min);
-        let far_contacts = predict::far_contacts(&grid, &sim_box, min_diameter);
         let n = discs.len();
+        let tables = input.into_tables(&sim_box, t0);
+        if let (Some(first), count) = tables.outside {
+            if options.overlaps == OverlapPolicy::Refuse {
+                return Err(Error::OutsideBox { first, count });
+            }
+        }
+        let grid = CellGrid::new(&sim_box, n, if n == 0 { 1.0 } else { max_diameter })?;
+        let far_contacts = predict::far_contacts(&grid, &sim_box, min_diameter);
         let mut sim = Simulation {
             sim_box,
             rule: options.rule,
-            body,
-            mass: discs.iter().map(|d| d.mass).collect(),
-            colour: discs.iter().map(|d| d.colour).collect(),
-            species: discs.iter().map(|d| d.species).collect(),
+            body: tables.body,
+            mass: tables.mass,
+            colour: tables.colour,
+            species: tables.species,
             image: vec![[0; D]; n],
             queue: new_queue::<D>(n),
             grid,
@@ -395,7 +488,7 @@ impl<const D: usize> Simulation<D> {
             event_time: t0,
             now: t0,
             stats: Stats::default(),
-            adjusted,
+            adjusted: tables.outside.1,
             barriers: Vec::new(),
             below: Vec::new(),
             mean_mv2: 0.0,
@@ -591,7 +684,7 @@ impl<const D: usize> Simulation<D> {
         }
         self.body
             .iter()
-            .zip(&self.mass)
+            .zip(self.mass.iter())
             .map(|(b, m)| 0.5 * m * b.velocity_in(self.now, self.gravity).norm2())
             .sum()
     }
@@ -728,9 +821,9 @@ impl<const D: usize> Simulation<D> {
         use std::mem::size_of;
         self.body.capacity() * size_of::<Body<D>>()
             + self.second.capacity() * size_of::<(f64, Pending)>()
-            + self.mass.capacity() * 8
-            + self.colour.capacity() * size_of::<Colour>()
-            + self.species.capacity() * 2
+            + self.mass.memory_bytes()
+            + self.colour.memory_bytes()
+            + self.species.memory_bytes()
             + self.image.capacity() * size_of::<[i32; D]>()
             + self.queue.memory_bytes()
             + self.grid.memory_bytes()

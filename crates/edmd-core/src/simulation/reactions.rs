@@ -149,7 +149,7 @@ impl<const D: usize> Simulation<D> {
             let chem = Chemistry::new(reactions)?;
             // A later state may have used a reactant up.
             if self.now == 0.0 {
-                chem.check_reactants(&self.species)?;
+                chem.check_reactants(&self.species.to_vec())?;
             }
             Some(Box::new(chem))
         };

@@ -110,7 +110,7 @@ impl<const D: usize> Simulation<D> {
                 let (pa, pb) = (self.body[a as usize].pos[0], self.body[b as usize].pos[0]);
                 pa.total_cmp(&pb).then(a.cmp(&b))
             });
-            Box::new(Sheets::new(g, order, &self.mass))
+            Box::new(Sheets::new(g, order, &self.mass.to_vec()))
         });
         self.grid = self.sheets_grid(self.sheets.is_some())?;
         self.file_all_in_grid();

@@ -295,7 +295,7 @@ pub(super) fn shell_at(table: &Table, r: f64) -> u8 {
 #[inline(always)]
 pub(super) fn scan_stepped<const D: usize, const FAR: bool>(
     body: &[super::Body<D>],
-    species: &[u16],
+    species: &super::per_disc::PerDisc<u16>,
     steps: &Steps<D>,
     i: usize,
     t0: f64,
