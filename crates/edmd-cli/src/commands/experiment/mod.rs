@@ -11,6 +11,7 @@ pub mod demon;
 pub mod diffusion;
 pub mod eos;
 pub mod front;
+pub mod hard_disc;
 pub mod jamming;
 pub mod maxwell;
 pub mod mfp;
@@ -53,6 +54,10 @@ pub enum Experiment {
     /// A reaction front, A + B -> 2A invading B: its speed against Fisher-KPP's 2 sqrt(D k),
     /// with D and k measured by edmd.
     Front(front::FrontArgs),
+    /// Hard discs across the liquid-hexatic transition: beta P d^2 against packing from 0.698
+    /// to 0.720 at N = 256^2, a chain of checkpointed runs, against Engel et al.'s (2013) EDMD
+    /// and Monte Carlo data.
+    HardDiscTransition(hard_disc::HardDiscArgs),
     /// The jammed packing fraction against the compression rate (Lubachevsky-Stillinger).
     Jamming(jamming::JammingArgs),
     /// The speed histogram against the 2D Maxwell-Boltzmann (Rayleigh) law.
@@ -101,6 +106,7 @@ pub fn run(which: &Experiment) -> Result<()> {
         Experiment::Diffusion(a) => diffusion::run(a),
         Experiment::Eos(a) => eos::run(a),
         Experiment::Front(a) => front::run(a),
+        Experiment::HardDiscTransition(a) => hard_disc::run(a),
         Experiment::Jamming(a) => jamming::run(a),
         Experiment::Maxwell(a) => maxwell::run(a),
         Experiment::Mfp(a) => mfp::run(a),
