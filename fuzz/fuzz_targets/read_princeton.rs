@@ -1,7 +1,7 @@
 //! The Princeton reader with edmd's directives, 1D, 2D and 3D: the first byte picks the column order
 //! and the entry point (`princeton::parse` or `parse_any`), the rest is the file. Any text gives
 //! a system or an error naming a line inside the file, never a panic; a system read is written
-//! back and read again unchanged (its reaction rules to the bit, a ring with its offset), and the engine builds or
+//! back and read again unchanged (its reaction rules to the bit, a ring with its offset, the self-gravity), and the engine builds or
 //! refuses it without a panic, taking every reaction rule the reader accepted.
 #![no_main]
 
@@ -18,6 +18,7 @@ fn round_trip<const D: usize>(sys: &LoadedSystem<D>, order: ColumnOrder, text: &
         restitution: sys.restitution.as_ref(),
         gravity: sys.gravity,
         shear: sys.shear,
+        self_gravity: sys.self_gravity,
     };
     princeton::write_full_ring(
         &mut out,
@@ -42,6 +43,7 @@ fn round_trip<const D: usize>(sys: &LoadedSystem<D>, order: ColumnOrder, text: &
     assert_eq!(again.gravity, sys.gravity);
     assert_eq!(again.shear, sys.shear);
     assert_eq!(again.ring, sys.ring);
+    assert_eq!(again.self_gravity, sys.self_gravity);
     for (a, b) in again.reactions.iter().zip(&sys.reactions) {
         let bits =
             |r: &edmd_core::Reaction| [r.activation, r.probability, r.heat].map(f64::to_bits);

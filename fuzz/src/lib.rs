@@ -12,8 +12,8 @@ use edmd_core::pack::Packer;
 use edmd_core::{
     Andersen, Barrier, Boundary, CollisionRule, Demon, Disc, Error, EventKind, EventRecord,
     Gravity, MultiContact, Observer, Options, OverlapPolicy, PairSteps, Potential, Reaction,
-    Reactions, Restitution, RestitutionLaw, Ring, Shear, SimBox, Simulation, Step, Vector,
-    OVERLAP_TOLERANCE,
+    Reactions, Restitution, RestitutionLaw, Ring, SelfGravity, Shear, SimBox, Simulation, Step,
+    Vector, OVERLAP_TOLERANCE,
 };
 
 /// The longest box axis over the shortest that the targets build (known defect 1).
@@ -81,6 +81,9 @@ pub struct Setup<const D: usize> {
     /// A ring patch (a third of the sheared systems whose z axis, in 3D, has walls): Hill's
     /// flights, the shear's rate becoming the Keplerian one.
     pub ring: Option<Ring>,
+    /// One-dimensional self-gravity (a third of the 1D systems between walls with the elastic
+    /// rule and nothing else): sheets, each rod on a parabola of its own between events.
+    pub self_gravity: Option<SelfGravity>,
 }
 
 /// A random valid system: box lengths within [`MAX_ASPECT`], walls or periodic per axis, up to
@@ -410,6 +413,35 @@ pub fn setup<const D: usize>(u: &mut Unstructured, max_n: usize) -> Result<Setup
             });
         }
     }
+    // Drawn last, and in 1D only, so that the 2D and 3D inputs found before build the systems
+    // they built: a third of the elastic rods between walls with nothing else attract as
+    // sheets, the whole mass pulling from a hundredth to ten times the speed scale squared
+    // over the line; half of them in a heat bath.
+    let mut self_gravity = None;
+    if D == 1
+        && rule == CollisionRule::Elastic
+        && multi.is_none()
+        && potential.is_none()
+        && reactions.is_none()
+        && restitution.is_none()
+        && gravity.is_none()
+        && !sim_box.is_periodic(0)
+        && !discs.is_empty()
+        && u.ratio(1, 3)?
+    {
+        let mass: f64 = discs.iter().map(|d| d.mass).sum();
+        let pull = vmax * vmax / sim_box.lengths[0] * 10f64.powf(3.0 * unit(u)? - 2.0);
+        self_gravity = Some(SelfGravity {
+            coupling: pull / mass,
+        });
+        if u.arbitrary::<bool>()? {
+            thermostat = Some(Andersen {
+                kt: (vmax * vmax * unit(u)?).max(1e-6),
+                rate: unit(u)?.max(1e-3) * vmax / sim_box.lengths[0],
+                seed: u.arbitrary()?,
+            });
+        }
+    }
     Ok(Setup {
         discs,
         sim_box,
@@ -423,6 +455,7 @@ pub fn setup<const D: usize>(u: &mut Unstructured, max_n: usize) -> Result<Setup
         shear,
         thermostat,
         ring,
+        self_gravity,
     })
 }
 
@@ -671,6 +704,8 @@ pub fn engine<const D: usize>(data: &[u8], max_n: usize) {
         Err(Error::BadRing(m)) if m.contains("overlap") || m.contains("too small") => return,
         Err(e) => panic!("a ring the generator made: {e}"),
     }
+    sim.set_self_gravity(s.self_gravity)
+        .expect("self-gravity the generator made");
     sim.set_thermostat(s.thermostat)
         .expect("a thermostat the generator made");
     let first = run_checked(&mut sim, s.events / 2);
@@ -753,7 +788,14 @@ pub fn check_loaded<const D: usize>(sys: &edmd_io::LoadedSystem<D>, text: &str) 
                     {
                         panic!("a ring the reader accepted: {m}")
                     }
-                    other => other.map(|()| sim),
+                    Err(e) => Err(e),
+                    // The self-gravity the reader accepts, the engine takes with the elastic
+                    // rule and binary collisions.
+                    Ok(()) => {
+                        sim.set_self_gravity(sys.self_gravity)
+                            .expect("self-gravity the reader accepted");
+                        Ok(sim)
+                    }
                 },
             }
         })
@@ -983,7 +1025,7 @@ mod tests {
     fn write_seed_corpus() {
         let corpus = concat!(env!("CARGO_MANIFEST_DIR"), "/corpus");
         for (k, data) in seed_inputs().iter().enumerate() {
-            for target in ["engine_2d", "engine_3d"] {
+            for target in ["engine_1d", "engine_2d", "engine_3d"] {
                 std::fs::create_dir_all(format!("{corpus}/{target}")).unwrap();
                 std::fs::write(format!("{corpus}/{target}/seed-{k:02}"), data).unwrap();
             }
@@ -1240,6 +1282,8 @@ mod tests {
             .and_then(|mut sim| sim.set_gravity(s.gravity).map(|()| sim))
             .and_then(|mut sim| sim.set_restitution(s.restitution.clone()).map(|()| sim))
             .and_then(|mut sim| sim.set_shear(s.shear).map(|()| sim))
+            .and_then(|mut sim| sim.set_ring(s.ring).map(|()| sim))
+            .and_then(|mut sim| sim.set_self_gravity(s.self_gravity).map(|()| sim))
             .and_then(|mut sim| sim.set_thermostat(s.thermostat).map(|()| sim));
         match sim {
             Ok(sim) => show_run(sim, s.events),

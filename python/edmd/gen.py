@@ -23,6 +23,7 @@ Example::
     sim = edmd.gen.fluid(n=500, packing=0.3, gravity=-1.0, seed=6)      # a column in a field
     sim = edmd.gen.fluid(n=500, packing=0.3, shear=0.2, seed=7)         # in simple shear flow
     sim = edmd.gen.ring(n=400, tau=0.25, restitution={"all": {"bridges": 0.01}})  # a ring patch
+    sim = edmd.gen.sheets(n=1000, seed=1)   # a water bag of self-gravitating sheets
 """
 
 from edmd import _check
@@ -31,7 +32,7 @@ from edmd._edmd import _generate as _compiled_generate
 # The options whose values are numbers, whole numbers, text and flags (`edmd gen`'s).
 _REAL = ("radius", "speed", "mass", "kt", "packing", "angle", "impact", "region", "big_radius",
          "big_mass", "size_ratio", "fraction_large", "spread", "well", "shoulder", "depth",
-         "gravity", "shear", "tau", "omega", "dispersion", "height")
+         "gravity", "shear", "tau", "omega", "dispersion", "height", "width", "coupling")
 
 
 def _generate(kind, **options):
@@ -73,6 +74,8 @@ __all__ = [
     "brownian",
     "fluid",
     "mixture",
+    "ring",
+    "sheets",
 ]
 
 
@@ -243,4 +246,26 @@ def ring(*, n=None, tau=None, omega=None, dispersion=None, height=None, dim=3, s
     return _generate(
         "ring", dim=dim, seed=seed, n=n, tau=tau, omega=omega, dispersion=dispersion,
         height=height, rule=rule, multi=multi, restitution=restitution,
+    )
+
+
+def sheets(*, n=None, width=None, speed=None, coupling=None, radius=None, seed=1):
+    """A water bag of self-gravitating sheets (``edmd gen sheets``): ``n`` sheets (1000 when
+    None) of mass 1 on a line, positions uniform in ``[-width, width]`` (1 when None) and
+    velocities in ``[-speed, speed]`` (1 when None) about the middle of the line, the centre
+    of mass at rest there, between walls 1.25 times as far from the middle as the energy lets
+    a sheet go, or as 16 bag widths if that is nearer. The sheets are rods of half-length ``radius`` (1e-7 when None), and the
+    simulation is under self-gravity of strength ``coupling`` (``1 / n`` when None, so that
+    the whole mass pulls with 1): ``sim.self_gravity`` is ``coupling``, as after
+    ``sim.set_self_gravity(coupling)``. With the defaults the bag starts in virial
+    equilibrium, ``2K = U`` (``speed**2 = width * coupling * n``).
+
+    >>> bag = edmd.gen.sheets(n=200, seed=1)
+    >>> bag.self_gravity
+    0.005
+    >>> bag.run(until=10.0)
+    """
+    return _generate(
+        "sheets", dim=1, seed=seed, n=n, width=width, speed=speed, coupling=coupling,
+        radius=radius,
     )

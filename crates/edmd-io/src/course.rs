@@ -42,6 +42,7 @@ impl CourseSystem {
             gravity: None,
             shear: None,
             ring: None,
+            self_gravity: None,
         }
     }
 }

@@ -1209,6 +1209,7 @@ fn build<const D: usize>(
         gravity: None,
         shear: None,
         ring: None,
+        self_gravity: None,
     };
     (system, images)
 }

@@ -26,7 +26,9 @@ pub mod xyz;
 
 pub use text::ParseError;
 
-use edmd_core::{Barrier, Disc, Gravity, Potential, Reaction, Restitution, Ring, Shear, SimBox};
+use edmd_core::{
+    Barrier, Disc, Gravity, Potential, Reaction, Restitution, Ring, SelfGravity, Shear, SimBox,
+};
 
 /// A system read from a file, with the line each disc came from (`D = 3` for spheres).
 #[derive(Clone, Debug, PartialEq)]
@@ -63,10 +65,14 @@ pub struct LoadedSystem<const D: usize = 2> {
     /// offset), so that a reader sets that shear first and the ring then keeps its offset.
     /// Only the Princeton format holds it.
     pub ring: Option<Ring>,
+    /// One-dimensional self-gravity (`# edmd self-gravity C`, 1D files only; none: none).
+    /// Only the Princeton format holds it.
+    pub self_gravity: Option<SelfGravity>,
 }
 
 /// How particles interact besides their hard cores, as the Princeton format's directives say
-/// it: the stepped potential, the reaction rules, the restitution, the field and the shear.
+/// it: the stepped potential, the reaction rules, the restitution, the field, the shear and
+/// the self-gravity.
 #[derive(Clone, Copy, Debug)]
 pub struct Interactions<'a> {
     /// The stepped pair potential (no pairs: hard cores).
@@ -79,6 +85,8 @@ pub struct Interactions<'a> {
     pub gravity: Option<Gravity>,
     /// Lees-Edwards boundaries, with the images' offset at the time written (none: none).
     pub shear: Option<Shear>,
+    /// One-dimensional self-gravity (none: none), written as `# edmd self-gravity C`.
+    pub self_gravity: Option<SelfGravity>,
 }
 
 /// Hard cores with no steps, for [`Interactions::HARD`].
@@ -92,6 +100,7 @@ impl Interactions<'_> {
         restitution: None,
         gravity: None,
         shear: None,
+        self_gravity: None,
     };
 
     /// Whether there is nothing besides hard cores.
@@ -101,6 +110,7 @@ impl Interactions<'_> {
             && self.restitution.is_none()
             && self.gravity.is_none()
             && self.shear.is_none()
+            && self.self_gravity.is_none()
     }
 }
 
@@ -214,10 +224,7 @@ pub fn write_with<const D: usize>(
 ) -> std::io::Result<()> {
     let interactions = Interactions {
         potential,
-        reactions: &[],
-        restitution: None,
-        gravity: None,
-        shear: None,
+        ..Interactions::HARD
     };
     write_full(out, discs, sim_box, barriers, interactions, format, time)
 }

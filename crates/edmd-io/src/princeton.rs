@@ -51,6 +51,11 @@
 //!     potential or barriers; a constant restitution below 1 needs the TC model beside it
 //!     (`# edmd restitution tc T`), lest a cold patch collapse. `edmd run` writes the offset
 //!     it reached;
+//!   - `# edmd self-gravity C`: one-dimensional self-gravity of strength `C` (see
+//!     `edmd_core::SelfGravity`): each rod is accelerated by `C` times the mass on its right
+//!     less the mass on its left, as parallel sheets of mass are (`C` is `2 pi G` per unit
+//!     area). 1D files only, `C` a finite number above 0, the line with walls, at most once,
+//!     and not with a field, a stepped potential, reaction rules or restitution;
 //!   - `# edmd reaction A + B -> C + D [activation E] [probability P] [heat Q]`: a reaction
 //!     rule (see `edmd_core::Reaction` and [`crate::reaction`] for the grammar): a disc of
 //!     species `A` colliding with one of `B` with at least `E` of kinetic energy in their
@@ -74,7 +79,7 @@
 
 use edmd_core::{
     Barrier, Boundary, Demon, Disc, Gravity, PairSteps, Potential, Reaction, Restitution, Ring,
-    Shear, SimBox, Step, Vector,
+    SelfGravity, Shear, SimBox, Step, Vector,
 };
 
 use crate::text::{count, err, exact, expect_end, number, Lines};
@@ -275,6 +280,7 @@ pub fn parse_in<const D: usize>(
     check_reactions(&d.reactions, &d.potential, &discs, d.time)?;
     check_shear(&d)?;
     check_ring(&d)?;
+    check_self_gravity(&d)?;
     if let Some((line, f)) = d.gravity {
         if d.sim_box.is_periodic(f.axis) {
             return Err(err(
@@ -344,7 +350,42 @@ pub fn parse_in<const D: usize>(
             None => d.shear.map(|(_, s)| s),
         },
         ring: d.ring.map(|(_, r, _)| r),
+        self_gravity: d.self_gravity.map(|(_, g)| g),
     })
+}
+
+/// Refuses `# edmd self-gravity` outside a 1D file, on a periodic line and beside what the
+/// engine's sheets do not go with (a field, a stepped potential, reaction rules,
+/// restitution), and a coupling that is not a finite number above 0.
+fn check_self_gravity<const D: usize>(d: &Directives<D>) -> Result<(), ParseError> {
+    let Some((line, g)) = d.self_gravity else {
+        return Ok(());
+    };
+    if D != 1 {
+        return Err(err(
+            line,
+            format!("self-gravity: sheets live on a line, in a 1D file ('# edmd dim 1'), not in this {D}D file"),
+        ));
+    }
+    let other = [
+        ("a field", d.gravity.map(|(l, _)| l)),
+        ("a stepped potential", d.potential.first().map(|(l, _)| *l)),
+        ("reaction rules", d.reactions.first().map(|(l, _)| *l)),
+        ("restitution", d.restitution.as_ref().map(|(l, _)| *l)),
+    ];
+    if let Some((what, Some(first))) = other.iter().find(|(_, l)| l.is_some()) {
+        return Err(err(
+            line,
+            format!("self-gravity does not go with {what} (line {first})"),
+        ));
+    }
+    if d.sim_box.is_periodic(0) {
+        return Err(err(
+            line,
+            "self-gravity: the line must have walls (a periodic line has no mass on either side to pull towards)",
+        ));
+    }
+    g.validate(D).map_err(|e| err(line, e.to_string()))
 }
 
 /// Refuses `# edmd ring` in a 1D file and beside what a ring patch does not go with: its own
@@ -482,6 +523,8 @@ struct Directives<const D: usize> {
     shear: Option<(usize, Shear)>,
     /// The ring and its images' offset, with its line.
     ring: Option<(usize, Ring, f64)>,
+    /// The self-gravity, with its line.
+    self_gravity: Option<(usize, SelfGravity)>,
 }
 
 /// Interprets the `# edmd` directives.
@@ -496,6 +539,8 @@ fn directives<const D: usize>(list: &[(usize, Vec<&str>)]) -> Result<Directives<
     let mut seen_shear: Option<usize> = None;
     let mut ring: Option<(usize, Ring, f64)> = None;
     let mut seen_ring: Option<usize> = None;
+    let mut self_gravity: Option<(usize, SelfGravity)> = None;
+    let mut seen_self_gravity: Option<usize> = None;
     let mut parts: Vec<(usize, crate::restitution::Part)> = Vec::new();
     let mut barriers = Vec::new();
     let mut time = 0.0;
@@ -632,6 +677,14 @@ fn directives<const D: usize>(list: &[(usize, Vec<&str>)]) -> Result<Directives<
                 };
                 ring = Some((line, Ring { omega }, offset));
             }
+            Some("self-gravity") => {
+                once(&mut seen_self_gravity, "self-gravity")?;
+                let [c] = &w[1..] else {
+                    return Err(err(line, "expected 'self-gravity C'"));
+                };
+                let coupling = number(line, c, "C")?;
+                self_gravity = Some((line, SelfGravity { coupling }));
+            }
             Some("restitution") => {
                 let (_, r) = restitution.get_or_insert_with(|| (line, Restitution::default()));
                 let part = crate::restitution::parse(&w[1..], r)
@@ -659,7 +712,7 @@ fn directives<const D: usize>(list: &[(usize, Vec<&str>)]) -> Result<Directives<
             Some(other) => {
                 return Err(err(
                     line,
-                    format!("unknown edmd directive '{other}' (dim, box, boundary, barrier, time, potential, reaction, restitution, gravity, shear, ring)"),
+                    format!("unknown edmd directive '{other}' (dim, box, boundary, barrier, time, potential, reaction, restitution, gravity, shear, ring, self-gravity)"),
                 ))
             }
             None => return Err(err(line, "empty edmd directive")),
@@ -675,6 +728,7 @@ fn directives<const D: usize>(list: &[(usize, Vec<&str>)]) -> Result<Directives<
         gravity,
         shear,
         ring,
+        self_gravity,
     })
 }
 
@@ -865,10 +919,7 @@ pub fn write_with<const D: usize>(
         barriers,
         Interactions {
             potential,
-            reactions: &[],
-            restitution: None,
-            gravity: None,
-            shear: None,
+            ..Interactions::HARD
         },
         order,
         time,
@@ -900,6 +951,7 @@ pub fn write_full<const D: usize>(
 
 /// [`write_full`] of a ring patch (`ring`; none: as [`write_full`]): `# edmd ring OMEGA
 /// OFFSET`, the offset `interactions.shear`'s (0 without it), in place of the shear's line.
+/// `interactions.self_gravity` is written as `# edmd self-gravity C`.
 #[allow(clippy::too_many_arguments)]
 pub fn write_full_ring<const D: usize>(
     out: &mut impl std::io::Write,
@@ -978,6 +1030,9 @@ pub fn write_full_ring<const D: usize>(
         writeln!(out, "# edmd ring {} {}", exact(r.omega), exact(offset))?;
     } else if let Some(s) = interactions.shear {
         writeln!(out, "# edmd shear {} {}", exact(s.rate), exact(s.offset))?;
+    }
+    if let Some(g) = interactions.self_gravity {
+        writeln!(out, "# edmd self-gravity {}", exact(g.coupling))?;
     }
     for l in interactions
         .restitution
@@ -1085,6 +1140,7 @@ mod tests {
             restitution: s.restitution.as_ref(),
             gravity: s.gravity,
             shear: s.shear,
+            self_gravity: s.self_gravity,
         };
         write_full(
             &mut out,
@@ -1535,6 +1591,7 @@ mod tests {
             restitution: s.restitution.as_ref(),
             gravity: s.gravity,
             shear: s.shear,
+            self_gravity: s.self_gravity,
         };
         write_full(
             &mut out,
@@ -1822,6 +1879,7 @@ mod tests {
             restitution: None,
             gravity: s.gravity,
             shear: s.shear,
+            self_gravity: s.self_gravity,
         };
         write_full(
             &mut out,

@@ -17,6 +17,7 @@ mod reactions;
 mod restitution;
 mod ring;
 mod shear;
+mod sheets;
 mod state;
 
 use std::io::Write;
@@ -562,6 +563,11 @@ impl PySimulation {
     ///         flow). Needs periodic x and y (and walls along z in 3D), binary collisions, no
     ///         stepped potential, no field and no `shear` (the ring shears at -1.5 omega
     ///         itself).
+    ///     self_gravity: one-dimensional self-gravity (None: none), as `set_self_gravity`
+    ///         takes it: the coupling C, each rod pulled by C times the mass on its right less
+    ///         the mass on its left (self-gravitating sheets). 1D only (positions of shape
+    ///         (N, 1)), the line with walls; needs the elastic rule, binary collisions, no
+    ///         stepped potential, reaction rules, restitution or field.
     ///
     /// Raises:
     ///     TypeError: an argument that is not numbers (strings, complex numbers, booleans,
@@ -573,7 +579,8 @@ impl PySimulation {
     ///         cannot be (the message starts "reactions:"), restitution that cannot be (the
     ///         message starts "restitution:"), a field that cannot be (the message starts
     ///         "gravity"), shear that cannot be (the message starts "shear"), a ring that
-    ///         cannot be (the message starts "ring").
+    ///         cannot be (the message starts "ring"), self-gravity that cannot be (the
+    ///         message starts "self_gravity").
     ///
     /// >>> import numpy as np
     /// >>> sim = edmd.Simulation.from_arrays([[2.0, 5.0], [8.0, 5.0]], [[1.0, 0.0], [-1.0, 0.0]],
@@ -594,7 +601,7 @@ impl PySimulation {
     /// >>> flow = edmd.Simulation.from_arrays([[5.0, 2.0], [5.0, 8.0]], [[-0.3, 0.0], [0.3, 0.0]],
     /// ...                                    radii=0.5, box=(10.0, 10.0), shear=0.1)
     #[staticmethod]
-    #[pyo3(signature = (positions, velocities, radii, masses=None, r#box=None, boundary=None, species=None, rule=None, multi=None, allow_overlaps=None, potential=None, reactions=None, restitution=None, gravity=None, shear=None, ring=None))]
+    #[pyo3(signature = (positions, velocities, radii, masses=None, r#box=None, boundary=None, species=None, rule=None, multi=None, allow_overlaps=None, potential=None, reactions=None, restitution=None, gravity=None, shear=None, ring=None, self_gravity=None))]
     #[allow(clippy::too_many_arguments)]
     fn from_arrays(
         positions: &Bound<'_, PyAny>,
@@ -613,6 +620,7 @@ impl PySimulation {
         gravity: Option<&Bound<'_, PyAny>>,
         shear: Option<&Bound<'_, PyAny>>,
         ring: Option<&Bound<'_, PyAny>>,
+        self_gravity: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<Self> {
         let input = arrays::Input::new(
             positions, velocities, radii, masses, r#box, boundary, species, potential,
@@ -649,8 +657,12 @@ impl PySimulation {
                 "ring: does not go with shear (the ring shears at -1.5 omega itself)",
             ));
         }
+        let sheets = match self_gravity {
+            Some(g) => sheets::parse(g, "self_gravity")?,
+            None => None,
+        };
         /// The simulation of the arrays, with the rules, the field, the restitution, the
-        /// shear and the ring (in the order `edmd run` sets a file's).
+        /// shear, the ring and the self-gravity (in the order `edmd run` sets a file's).
         #[allow(clippy::too_many_arguments)]
         fn made<const D: usize>(
             input: &arrays::Input,
@@ -660,6 +672,7 @@ impl PySimulation {
             restitution: Option<edmd_core::Restitution>,
             sliding: Option<shear::Sliding>,
             patch: Option<edmd_core::Ring>,
+            sheets: Option<edmd_core::SelfGravity>,
         ) -> PyResult<State<D>> {
             let mut sim = shear::build::<D>(input, opts, sliding)?;
             reactions::apply(&mut sim, reactions, "reactions")?;
@@ -667,6 +680,7 @@ impl PySimulation {
             restitution::apply(&mut sim, restitution, "restitution")?;
             shear::apply(&mut sim, sliding)?;
             ring::apply(&mut sim, patch, "ring")?;
+            sheets::apply(&mut sim, sheets, "self_gravity")?;
             Ok(State::new(sim, Format::Princeton(ColumnOrder::RadiusMass)))
         }
         guarded("from_arrays", || {
@@ -679,6 +693,7 @@ impl PySimulation {
                     restitution,
                     sliding,
                     patch,
+                    sheets,
                 )?),
                 1 => Inner::One(made(
                     &input,
@@ -688,6 +703,7 @@ impl PySimulation {
                     restitution,
                     sliding,
                     patch,
+                    sheets,
                 )?),
                 _ => Inner::Two(made(
                     &input,
@@ -697,6 +713,7 @@ impl PySimulation {
                     restitution,
                     sliding,
                     patch,
+                    sheets,
                 )?),
             };
             Ok(PySimulation { inner })
@@ -793,7 +810,7 @@ impl PySimulation {
             (Some(t), None) => {
                 // The same limit `edmd run --until` has: beyond it floating-point times are
                 // too far apart to place a disc at contact.
-                each!(&get(slf)?.inner, s => s.sim.check_clock(t))
+                each!(&get(slf)?.inner, s => edmd::check_clock(&s.sim, t))
                     .map_err(|e| value_error(format!("until: {e}")))?;
                 t
             }
@@ -1671,6 +1688,69 @@ impl PySimulation {
         Ok(each!(&get(slf)?.inner, s => s.sim.ring_energy()))
     }
 
+    /// One-dimensional self-gravity: None (none), or its coupling, as `set_self_gravity` and
+    /// `from_arrays(self_gravity=...)` take it (`sim.set_self_gravity(sim.self_gravity)`
+    /// changes nothing).
+    #[getter]
+    fn self_gravity(slf: &Bound<'_, Self>) -> PyResult<Option<f64>> {
+        Ok(each!(&get(slf)?.inner, s => s.sim.self_gravity().map(|g| g.coupling)))
+    }
+
+    /// Puts the rods of a 1D system under one-dimensional self-gravity from now on, as a
+    /// file's `# edmd self-gravity C` line does: each rod of mass m is accelerated by
+    /// `coupling * (M_right - M_left)`, the masses on its two sides, as parallel sheets of
+    /// mass are (`coupling` is 2 pi G per unit area). Rods keep their order, so each one's
+    /// rank, taken now, fixes its acceleration; equal rods exchange velocities at a collision,
+    /// which is the sheets passing through each other. `self_gravity_energy` (the sheets'
+    /// `U = sum over pairs coupling m_i m_j |y_i - y_j|`) is part of `potential_energy`, and
+    /// the virial theorem reads `2 <K> = <U>`. Pickles and checkpoints carry it, so a restored
+    /// simulation continues bit for bit.
+    ///
+    /// Args:
+    ///     coupling: a finite number above 0; None takes the self-gravity away.
+    ///
+    /// Raises:
+    ///     TypeError, ValueError: a bad argument, named in the message ("coupling: ..."): not
+    ///         a finite number above 0; self-gravity in 2D or 3D, on a periodic line, beside a
+    ///         field, a stepped potential, reaction rules, restitution, multi-disc collisions
+    ///         or the swap rule. A refused call changes nothing.
+    ///
+    /// >>> sim = edmd.gen.sheets(n=200, seed=1)
+    /// >>> sim.self_gravity
+    /// 0.005
+    /// >>> sim.set_self_gravity(None)
+    /// >>> sim.set_self_gravity(0.005)
+    #[pyo3(signature = (coupling))]
+    fn set_self_gravity(slf: &Bound<'_, Self>, coupling: &Bound<'_, PyAny>) -> PyResult<()> {
+        let gravity = sheets::parse(coupling, "coupling")?;
+        let mut this = get_mut(slf)?;
+        guarded(
+            "set_self_gravity",
+            || each!(&mut this.inner, s => sheets::apply(&mut s.sim, gravity, "coupling")),
+        )
+    }
+
+    /// The sheets' potential energy now, `sum over pairs coupling m_i m_j |y_i - y_j|` with
+    /// `y` the sheets' positions (`sheet_positions()`); 0.0 without self-gravity. It is part
+    /// of `potential_energy`.
+    #[getter]
+    fn self_gravity_energy(slf: &Bound<'_, Self>) -> PyResult<f64> {
+        Ok(each!(&get(slf)?.inner, s => s.sim.self_gravity_energy()))
+    }
+
+    /// The positions of the sheets the rods stand for now: each rod's position less the
+    /// contact distances of the rods to its left, so that touching rods are sheets at one
+    /// place; an (N,) float64 array in input order, or None without self-gravity.
+    ///
+    /// >>> sim = edmd.gen.sheets(n=200, seed=1)
+    /// >>> sim.sheet_positions().shape
+    /// (200,)
+    fn sheet_positions<'py>(slf: &Bound<'py, Self>) -> PyResult<Option<Bound<'py, PyArray1<f64>>>> {
+        let this = get(slf)?;
+        let y = each!(&this.inner, s => s.sim.sheet_positions());
+        Ok(y.map(|y| PyArray1::from_vec(slf.py(), y)))
+    }
+
     /// Velocities relative to the streaming profile, `v - (rate * (y - L_y / 2), 0)`: (N, dim)
     /// float64; the velocities themselves without shear.
     #[getter]
@@ -1829,6 +1909,8 @@ impl PySimulation {
 fn beyond_hard_cores<const D: usize>(sim: &Simulation<D>) -> Option<&'static str> {
     if sim.ring().is_some() {
         Some("the ring patch")
+    } else if sim.self_gravity().is_some() {
+        Some("the self-gravity")
     } else if sim.is_stepped() {
         Some("the stepped potential")
     } else if sim.reactions().is_some() {
@@ -1914,6 +1996,7 @@ fn render(inner: &Inner, kind: &str, path: &Path) -> PyResult<Vec<u8>> {
                         restitution: s.sim.restitution(),
                         gravity: s.sim.gravity(),
                         shear: s.sim.shear(),
+                        self_gravity: s.sim.self_gravity(),
                     };
                     edmd_io::write_full_ring(&mut w, &discs, s.sim.sim_box(), s.sim.barriers(), interactions, s.sim.ring(), fmt, s.sim.time())
                         .map_err(io_error)?
@@ -2042,7 +2125,7 @@ fn _restore(data: &Bound<'_, PyAny>) -> PyResult<PySimulation> {
 /// Makes a system as `edmd gen KIND` does (same checks, messages and seeds) and returns it as
 /// a simulation. Called by the functions in `edmd.gen`.
 #[pyfunction]
-#[pyo3(signature = (kind, *, dim=2, seed=1, course=false, n=None, radius=None, speed=None, mass=None, kt=None, packing=None, boundary=None, angle=None, impact=None, region=None, big_radius=None, big_mass=None, size_ratio=None, fraction_large=None, spread=None, well=None, shoulder=None, depth=None, rule="elastic", multi=false, species=None, reactions=None, restitution=None, gravity=None, shear=None, tau=None, omega=None, dispersion=None, height=None))]
+#[pyo3(signature = (kind, *, dim=2, seed=1, course=false, n=None, radius=None, speed=None, mass=None, kt=None, packing=None, boundary=None, angle=None, impact=None, region=None, big_radius=None, big_mass=None, size_ratio=None, fraction_large=None, spread=None, well=None, shoulder=None, depth=None, rule="elastic", multi=false, species=None, reactions=None, restitution=None, gravity=None, shear=None, tau=None, omega=None, dispersion=None, height=None, width=None, coupling=None))]
 #[allow(clippy::too_many_arguments)]
 fn _generate(
     kind: &str,
@@ -2078,6 +2161,8 @@ fn _generate(
     omega: Option<f64>,
     dispersion: Option<f64>,
     height: Option<f64>,
+    width: Option<f64>,
+    coupling: Option<f64>,
 ) -> PyResult<PySimulation> {
     use edmd::gen::{make_with, ChemistryArgs, GenArgs, Generated};
     let dim = edmd::options::parse_dim_with_rods(&dim.to_string())
@@ -2143,6 +2228,8 @@ fn _generate(
         omega,
         dispersion,
         height,
+        width,
+        coupling,
     };
     // `edmd gen`'s messages, with the Python argument names instead of its flags.
     let message = |e: anyhow::Error| {
@@ -2175,6 +2262,8 @@ fn _generate(
             "omega",
             "dispersion",
             "height",
+            "width",
+            "coupling",
             "seed",
             "species",
             "dim",
@@ -2229,6 +2318,7 @@ fn _generate(
         restitution: Option<edmd_core::Restitution>,
         sliding: Option<edmd_core::Shear>,
         patch: Option<edmd_core::Ring>,
+        sheets: Option<edmd_core::SelfGravity>,
     ) -> PyResult<Simulation<D>> {
         let mut sim = build(system, potential, opts, kind)?;
         reactions::apply(&mut sim, reactions, "reactions")?;
@@ -2236,6 +2326,7 @@ fn _generate(
         restitution::apply(&mut sim, restitution, "restitution")?;
         shear::apply(&mut sim, sliding.map(|s| shear::Sliding::of(s, "shear")))?;
         ring::apply(&mut sim, patch, "omega")?;
+        sheets::apply(&mut sim, sheets, "coupling")?;
         Ok(sim)
     }
     guarded("gen", || {
@@ -2249,25 +2340,28 @@ fn _generate(
         if let (Some(_), Some(r)) = (patch, &restitution) {
             edmd::gen::check_ring_restitution(r, kind).map_err(message)?;
         }
+        let sheets = edmd::gen::self_gravity_of(&args).map_err(message)?;
+        edmd::gen::check_self_gravity_with(&args, restitution.is_some(), reactions.is_some())
+            .map_err(message)?;
         match generated {
             Generated::Two(_, Format::Course) if !potential.is_hard() => Err(value_error(format!(
                 "gen {kind}: the course format has no place for a potential (course with well or shoulder)"
             ))),
             Generated::Two(system, format) => Ok(PySimulation {
                 inner: Inner::Two(State::new(
-                    reactive(&system, &potential, opts, kind, reactions, field, restitution, sliding, patch)?,
+                    reactive(&system, &potential, opts, kind, reactions, field, restitution, sliding, patch, sheets)?,
                     format,
                 )),
             }),
             Generated::Three(system) => Ok(PySimulation {
                 inner: Inner::Three(State::new(
-                    reactive(&system, &potential, opts, kind, reactions, field, restitution, sliding, patch)?,
+                    reactive(&system, &potential, opts, kind, reactions, field, restitution, sliding, patch, sheets)?,
                     Format::Princeton(ColumnOrder::RadiusMass),
                 )),
             }),
             Generated::One(system) => Ok(PySimulation {
                 inner: Inner::One(State::new(
-                    reactive(&system, &potential, opts, kind, reactions, field, restitution, sliding, patch)?,
+                    reactive(&system, &potential, opts, kind, reactions, field, restitution, sliding, patch, sheets)?,
                     Format::Princeton(ColumnOrder::RadiusMass),
                 )),
             }),

@@ -4,7 +4,10 @@
 //! option overrides one parameter, and an option that a kind does not have is an error rather
 //! than silently ignored. [`ChemistryArgs`] adds species in given proportions and reaction
 //! rules ([`make_with`]). `edmd gen ring` makes a patch of a planetary ring
-//! (`edmd_core::setup::ring::RingPatch`), written with its `# edmd ring` line ([`ring_of`]).
+//! (`edmd_core::setup::ring::RingPatch`), written with its `# edmd ring` line ([`ring_of`]);
+//! `edmd gen sheets` a water bag of self-gravitating sheets
+//! (`edmd_core::setup::sheets::WaterBag`), written with its `# edmd self-gravity` line
+//! ([`self_gravity_of`]).
 
 use std::path::Path;
 
@@ -101,13 +104,13 @@ pub struct ChemistryArgs {
 #[derive(Debug, Args)]
 pub struct GenArgs {
     /// What to generate: single, head-on, angled, one-red, lattice, diffusion1, diffusion2,
-    /// dense, brownian, fluid, mixture, ring.
+    /// dense, brownian, fluid, mixture, ring, sheets.
     pub kind: String,
     /// Output file (`-` for standard output).
     #[arg(long, short, value_name = "FILE")]
     pub output: String,
     /// Dimension: 2 (discs), 3 (spheres; fluid, mixture and ring only) or 1 (hard rods on a
-    /// line; fluid only). Default 2, and 3 for ring.
+    /// line; fluid and sheets only). Default 2, 3 for ring and 1 for sheets.
     #[arg(long, value_parser = crate::options::parse_dim_with_rods)]
     pub dim: Option<usize>,
     /// Random seed: the same seed gives the same file.
@@ -198,12 +201,25 @@ pub struct GenArgs {
     /// default 60, at least 4).
     #[arg(long, allow_negative_numbers = true)]
     pub height: Option<f64>,
+    /// Half the width of a water bag of sheets: positions uniform in [-WIDTH, WIDTH] about
+    /// the line's middle (sheets; default 1).
+    #[arg(long, allow_negative_numbers = true)]
+    pub width: Option<f64>,
+    /// The self-gravity's coupling of sheets, 2 pi G per unit area: each sheet is pulled by
+    /// COUPLING times the mass on its right less the mass on its left (sheets; default 1/N,
+    /// so that the whole mass pulls with 1).
+    #[arg(long, allow_negative_numbers = true)]
+    pub coupling: Option<f64>,
 }
 
 impl GenArgs {
-    /// The dimension: `--dim`, else 3 for a ring patch and 2 for the rest.
+    /// The dimension: `--dim`, else 3 for a ring patch, 1 for sheets and 2 for the rest.
     pub fn dim(&self) -> usize {
-        self.dim.unwrap_or(if self.kind == RING { 3 } else { 2 })
+        self.dim.unwrap_or(match self.kind.as_str() {
+            RING => 3,
+            SHEETS => 1,
+            _ => 2,
+        })
     }
 
     /// The stepped potential `--well` or `--shoulder` asks for, for discs of diameter
@@ -294,6 +310,8 @@ pub fn run(cmd: &GenCommand) -> Result<()> {
     let gravity = gravity_of(args, &generated)?;
     let shear = shear_of(args, &generated)?;
     let ring = ring_of(args)?;
+    let self_gravity = self_gravity_of(args)?;
+    check_self_gravity_with(args, restitution.is_some(), !rules.is_empty())?;
     if let Some(r) = ring.and(restitution.as_ref()) {
         check_ring_restitution(r, &args.kind)?;
     }
@@ -320,6 +338,7 @@ pub fn run(cmd: &GenCommand) -> Result<()> {
         shear: ring
             .map(|r| edmd_core::Shear::new(r.shear_rate()))
             .or(shear),
+        self_gravity,
     };
     let princeton = Format::Princeton(ColumnOrder::RadiusMass);
     match generated {
@@ -649,9 +668,12 @@ fn make_in_box(args: &GenArgs) -> Result<Generated> {
     if args.kind == RING {
         return make_ring(args);
     }
+    if args.kind == SHEETS {
+        return make_sheets(args);
+    }
     let Ok(mut kind) = GenKind::from_name(&args.kind) else {
         return user_error(format!(
-            "gen: unknown kind '{}' (one of: {}, {RING})",
+            "gen: unknown kind '{}' (one of: {}, {RING}, {SHEETS})",
             args.kind,
             GenKind::NAMES.join(", ")
         ));
@@ -862,6 +884,8 @@ pub fn ring_patch(args: &GenArgs) -> Result<edmd_core::setup::ring::RingPatch> {
             "shear (the ring shears at -3/2 Omega itself)",
             args.shear.is_some(),
         ),
+        ("width", args.width.is_some()),
+        ("coupling", args.coupling.is_some()),
     ];
     if let Some((flag, _)) = others.iter().find(|(_, given)| *given) {
         return user_error(format!(
@@ -958,6 +982,123 @@ pub fn ring_of(args: &GenArgs) -> Result<Option<edmd_core::Ring>> {
     }
     let omega = ring_patch(args)?.omega;
     Ok(Some(edmd_core::Ring { omega }))
+}
+
+/// The name of the sheets' kind, `edmd gen sheets`.
+pub const SHEETS: &str = "sheets";
+
+/// The rods' half-length `edmd gen sheets` gives its sheets by default, as `edmd experiment
+/// sheets` does: small enough against the bag's spacing that the rods are sheets.
+pub const SHEETS_RADIUS: f64 = 1e-7;
+
+/// The water bag `edmd gen sheets` makes, from its options and their defaults (1000 sheets
+/// of mass 1, half-width 1, speeds up to 1, rods of half-length 1e-7, coupling 1/N), every
+/// option it does not take refused. With the defaults `2K = U` at the start: a uniform bag
+/// is in virial equilibrium when `speed^2 = width coupling N`.
+pub fn water_bag(args: &GenArgs) -> Result<edmd_core::setup::sheets::WaterBag> {
+    let name = SHEETS;
+    if args.dim() != 1 {
+        return user_error(format!(
+            "gen {name}: sheets live on a line (--dim 1), not --dim {}",
+            args.dim()
+        ));
+    }
+    if args.course {
+        return user_error(format!(
+            "gen {name}: the course format has no place for sheets (--course)"
+        ));
+    }
+    let others = [
+        ("well", args.well.is_some()),
+        ("shoulder", args.shoulder.is_some()),
+        ("depth", args.depth.is_some()),
+        (
+            "gravity (the sheets pull each other; a field does not go with them)",
+            args.gravity.is_some(),
+        ),
+        ("shear", args.shear.is_some()),
+    ];
+    let used = ["n", "radius", "speed", "width", "coupling"];
+    if let Some((flag, _)) = others
+        .into_iter()
+        .chain(given(args))
+        .find(|(f, g)| *g && !used.contains(f))
+    {
+        return user_error(format!("gen {name}: --{flag} does not apply to sheets"));
+    }
+    let n = match args.n {
+        None => 1000,
+        Some(n) if n < 2 || n as u64 > crate::MAX_N as u64 => {
+            return user_error(format!(
+                "gen {name}: --n must be from 2 to {}, found {n}",
+                crate::MAX_N
+            ))
+        }
+        Some(n) => n as usize,
+    };
+    let positive = |flag: &str, v: f64| {
+        if v.is_finite() && v > 0.0 {
+            Ok(v)
+        } else {
+            user_error(format!(
+                "gen {name}: --{flag} must be a finite number > 0, found {v}"
+            ))
+        }
+    };
+    let width = positive("width", args.width.unwrap_or(1.0))?;
+    let radius = positive("radius", args.radius.unwrap_or(SHEETS_RADIUS))?;
+    // The rods take up at most a tenth of the bag, so that they stand for sheets.
+    if radius * n as f64 > 0.1 * width {
+        return user_error(format!(
+            "gen {name}: --radius {radius}: {n} rods of that length take more than a tenth of the bag's width {}; sheets need rods much shorter than their spacing (default {SHEETS_RADIUS:e})",
+            2.0 * width
+        ));
+    }
+    Ok(edmd_core::setup::sheets::WaterBag {
+        n,
+        width,
+        speed: positive("speed", args.speed.unwrap_or(1.0))?,
+        radius,
+        coupling: positive("coupling", args.coupling.unwrap_or(1.0 / n as f64))?,
+        seed: args.seed,
+    })
+}
+
+/// `edmd gen sheets`: the water bag, between walls (its self-gravity is [`self_gravity_of`]'s).
+fn make_sheets(args: &GenArgs) -> Result<Generated> {
+    let (discs, sim_box) = water_bag(args)?
+        .build()
+        .or_else(|e| user_error(format!("gen {SHEETS}: {e}")))?;
+    Ok(Generated::One(edmd_core::System {
+        discs,
+        sim_box,
+        barriers: Vec::new(),
+    }))
+}
+
+/// The self-gravity `edmd gen sheets` writes (`None` for every other kind).
+pub fn self_gravity_of(args: &GenArgs) -> Result<Option<edmd_core::SelfGravity>> {
+    if args.kind != SHEETS {
+        return Ok(None);
+    }
+    let coupling = water_bag(args)?.coupling;
+    Ok(Some(edmd_core::SelfGravity { coupling }))
+}
+
+/// Refuses restitution (`restitution`: some was asked for) and reaction rules (`reactions`)
+/// beside sheets: the sheets pass through each other, so their collisions are elastic.
+pub fn check_self_gravity_with(args: &GenArgs, restitution: bool, reactions: bool) -> Result<()> {
+    if args.kind != SHEETS {
+        return Ok(());
+    }
+    let what = match (restitution, reactions) {
+        (true, _) => "--restitution",
+        (_, true) => "--reaction",
+        _ => return Ok(()),
+    };
+    user_error(format!(
+        "gen {SHEETS}: {what} does not go with self-gravity (sheets pass through each other, so their collisions are elastic)"
+    ))
 }
 
 /// Refuses a constant coefficient below 1 on a ring without the TC model: a cold dense patch
@@ -1128,7 +1269,15 @@ fn apply(kind: &mut GenKind, a: &GenArgs) -> Result<()> {
             }
         }
     }
-    let given: Vec<(&str, bool)> = vec![
+    if let Some((flag, _)) = given(a).into_iter().find(|(f, g)| *g && !used.contains(f)) {
+        return user_error(format!("gen {name}: --{flag} does not apply to this kind"));
+    }
+    Ok(())
+}
+
+/// Each option a kind may or may not take, and whether it was given.
+fn given(a: &GenArgs) -> Vec<(&'static str, bool)> {
+    vec![
         ("n", a.n.is_some()),
         ("radius", a.radius.is_some()),
         ("speed", a.speed.is_some()),
@@ -1148,11 +1297,9 @@ fn apply(kind: &mut GenKind, a: &GenArgs) -> Result<()> {
         ("omega", a.omega.is_some()),
         ("dispersion", a.dispersion.is_some()),
         ("height", a.height.is_some()),
-    ];
-    if let Some((flag, _)) = given.iter().find(|(f, g)| *g && !used.contains(f)) {
-        return user_error(format!("gen {name}: --{flag} does not apply to this kind"));
-    }
-    Ok(())
+        ("width", a.width.is_some()),
+        ("coupling", a.coupling.is_some()),
+    ]
 }
 
 #[cfg(test)]

@@ -221,11 +221,7 @@ pub fn build_seeded<const D: usize>(
     seed: u64,
 ) -> Result<Simulation<D>> {
     let mut sim = build_hard(path, sys, options, true)?;
-    set_reactions(path, sys, &mut sim, seed)?;
-    set_gravity(path, sys, &mut sim)?;
-    set_restitution(path, sys, &mut sim)?;
-    set_shear(path, sys, &mut sim)?;
-    set_ring(path, sys, &mut sim)?;
+    set_interactions(path, sys, &mut sim, seed)?;
     Ok(sim)
 }
 
@@ -238,12 +234,25 @@ pub fn build_with_hint<const D: usize>(
     allow_overlaps_option: bool,
 ) -> Result<Simulation<D>> {
     let mut sim = build_hard(path, sys, options, allow_overlaps_option)?;
-    set_reactions(path, sys, &mut sim, DEFAULT_SEED)?;
-    set_gravity(path, sys, &mut sim)?;
-    set_restitution(path, sys, &mut sim)?;
-    set_shear(path, sys, &mut sim)?;
-    set_ring(path, sys, &mut sim)?;
+    set_interactions(path, sys, &mut sim, DEFAULT_SEED)?;
     Ok(sim)
+}
+
+/// Gives `sim`, built from `sys` with its hard cores and potential, the rest of the file's
+/// interactions, in the order the engine takes them: the reactions (their draws seeded with
+/// `seed`), the field, the restitution, the shear, the ring and the self-gravity.
+fn set_interactions<const D: usize>(
+    path: &str,
+    sys: &LoadedSystem<D>,
+    sim: &mut Simulation<D>,
+    seed: u64,
+) -> Result<()> {
+    set_reactions(path, sys, sim, seed)?;
+    set_gravity(path, sys, sim)?;
+    set_restitution(path, sys, sim)?;
+    set_shear(path, sys, sim)?;
+    set_ring(path, sys, sim)?;
+    set_self_gravity(path, sys, sim)
 }
 
 /// Makes the collisions of `sim`, built from `sys`, reactive under the file's rules (nothing
@@ -332,6 +341,24 @@ pub fn set_ring<const D: usize>(
     }
     sim.set_ring(sys.ring)
         .or_else(|e| user_error(format!("{path}: {e} (the file's '# edmd ring' line)")))
+}
+
+/// Puts `sim`, built from `sys`, under the file's one-dimensional self-gravity (nothing
+/// without it), each rod's rank its place from the left now. Self-gravity with the swap rule
+/// or multi-disc collisions is refused in one line naming the file.
+pub fn set_self_gravity<const D: usize>(
+    path: &str,
+    sys: &LoadedSystem<D>,
+    sim: &mut Simulation<D>,
+) -> Result<()> {
+    if sys.self_gravity.is_none() {
+        return Ok(());
+    }
+    sim.set_self_gravity(sys.self_gravity).or_else(|e| {
+        user_error(format!(
+            "{path}: {e} (the file's '# edmd self-gravity' line)"
+        ))
+    })
 }
 
 /// The simulation of the discs, box, barriers and potential of `sys`, without its reactions.

@@ -99,6 +99,18 @@ pub struct Summary {
     /// `Simulation::ring_energy`).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub ring_energy: Option<f64>,
+    /// Under one-dimensional self-gravity: its coupling (`# edmd self-gravity C`); null
+    /// without it.
+    pub self_gravity: Option<f64>,
+    /// Under self-gravity: the sheets' potential energy at the end, `U = sum over pairs of
+    /// coupling m_i m_j |y_i - y_j|` (see `Simulation::self_gravity_energy`; it is counted in
+    /// `relative_energy_change`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub sheets_energy: Option<f64>,
+    /// Under self-gravity: the virial ratio `2K/U` at the end (the virial theorem for a
+    /// potential homogeneous of degree 1: `2<K> = <U>` on time averages).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub virial_ratio: Option<f64>,
     /// Discs moved into the box by `--allow-overlaps`.
     pub discs_moved_into_box: usize,
     /// Trajectory frames written.
@@ -545,6 +557,13 @@ fn execute<const D: usize>(
             .filter(|_| !sim.is_empty())
             .map(|_| (2.0 * sim.peculiar_kinetic_energy() / (D * sim.len()) as f64).sqrt()),
         ring_energy: sim.ring().map(|_| sim.ring_energy()),
+        self_gravity: sim.self_gravity().map(|g| g.coupling),
+        sheets_energy: sim.self_gravity().map(|_| sim.self_gravity_energy()),
+        virial_ratio: sim
+            .self_gravity()
+            .map(|_| sim.self_gravity_energy())
+            .filter(|&u| u > 0.0)
+            .map(|u| 2.0 * sim.kinetic_energy() / u),
         discs_moved_into_box: sim.adjusted_discs(),
         frames,
     };
@@ -560,6 +579,7 @@ fn execute<const D: usize>(
         restitution: sim.restitution(),
         gravity: sim.gravity(),
         shear: sim.shear(),
+        self_gravity: sim.self_gravity(),
     };
     let write_state = |mut w: &mut dyn Write| {
         edmd_io::write_full_ring(
@@ -857,6 +877,12 @@ fn human(s: &Summary) -> String {
         t += &format!("\nshear: rate {rate}, images' offset {offset} at the end");
         if let Some(kt) = s.peculiar_kt {
             t += &format!("; kT {kt:.6} about the streaming profile");
+        }
+    }
+    if let (Some(c), Some(u)) = (s.self_gravity, s.sheets_energy) {
+        t += &format!("\nself-gravity: coupling {c}, sheets' potential energy {u} at the end");
+        if let Some(v) = s.virial_ratio {
+            t += &format!("; virial ratio 2K/U {v:.6}");
         }
     }
     if s.discs_moved_into_box > 0 {
