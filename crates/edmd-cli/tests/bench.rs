@@ -79,3 +79,39 @@ fn impossible_packing_is_a_clear_error() {
     assert_eq!(out.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&out.stderr).contains("packing fraction 0.95"));
 }
+
+/// A line of rods: 400 of them, the same fields, the dimension said, energy kept.
+#[test]
+fn bench_times_rods_on_a_line() {
+    let v = small_bench(&["--dim", "1"]);
+    assert_eq!(v["dim"], 1);
+    assert!(v["collisions"].as_u64().unwrap() >= 800);
+    assert!(v["relative_energy_change"].as_f64().unwrap().abs() < 1e-12);
+    assert!(v["setup_seconds"].as_f64().unwrap() >= 0.0);
+    assert!(v["melt_seconds"].as_f64().unwrap() >= 0.0);
+}
+
+/// 2^31 discs need about 280 GB: refused in one line naming the need, before anything is
+/// made; one more than that is past the 32-bit indices.
+#[test]
+fn a_bench_larger_than_the_memory_is_refused_at_once() {
+    let out = run(
+        "edmd",
+        &["bench", "--n", "2147483648", "--packing", "0.6"],
+        None,
+    );
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("2147483648 discs need about 279.2 GB"),
+        "{err}"
+    );
+    assert_eq!(err.trim().lines().count(), 1, "{err}");
+    let out = run(
+        "edmd",
+        &["bench", "--n", "2147483649", "--packing", "0.6"],
+        None,
+    );
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("--n must be from 2 to 2147483648"));
+}
