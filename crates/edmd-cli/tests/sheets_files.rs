@@ -245,11 +245,11 @@ fn bad_sheets_files_are_refused_in_one_line_naming_the_line() {
     let line = "1\n# edmd dim 1\n# edmd box 8\n";
     for (text, words) in [
         (
-            format!("1\n# edmd box 8 8\n# edmd self-gravity 1\n1 1 0 0 .5 1 0 0 0\n"),
+            "1\n# edmd box 8 8\n# edmd self-gravity 1\n1 1 0 0 .5 1 0 0 0\n".to_string(),
             vec![":3:", "1D file", "not in this 2D file"],
         ),
         (
-            format!("1\n# edmd dim 3\n# edmd self-gravity 1\n.5 .5 .5 0 0 0 .1 1 0 0 0\n"),
+            "1\n# edmd dim 3\n# edmd self-gravity 1\n.5 .5 .5 0 0 0 .1 1 0 0 0\n".to_string(),
             vec![":3:", "3D file"],
         ),
         (
