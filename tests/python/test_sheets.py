@@ -99,9 +99,9 @@ def test_pickles_continue_bit_for_bit():
 
 
 def test_files_keep_the_self_gravity(tmp_path):
-    # Rods 2e-3 long: a state file's time must be below the clock's limit for its rods (about
-    # 1000 for these, 0.1 for the default 2e-7), which the reader checks.
-    bag = edmd.gen.sheets(n=100, coupling=0.02, radius=1e-3, seed=5)
+    # The default rods, 2e-7 long: hard rods that short could not be placed by the clock past
+    # about t = 0.1, but sheets keep their order and have no such limit.
+    bag = edmd.gen.sheets(n=100, coupling=0.02, seed=5)
     bag.run(until=1.5)
     path = tmp_path / "bag.txt"
     bag.write(path)
@@ -142,7 +142,7 @@ def test_bad_self_gravity_is_refused_naming_the_argument():
             rods.set_self_gravity(bad)
     assert rods.self_gravity is None
     ring = edmd.gen.fluid(n=20, dim=1, seed=1)  # a periodic line unless told
-    with pytest.raises(ValueError, match="coupling: the line must have walls"):
+    with pytest.raises(ValueError, match="coupling: self-gravity needs walls on the line"):
         ring.set_self_gravity(1.0)
     assert ring.self_gravity is None
     discs = edmd.gen.fluid(n=50, packing=0.2, seed=1)
@@ -161,7 +161,7 @@ def test_bad_self_gravity_is_refused_naming_the_argument():
     with pytest.raises(ValueError, match="self_gravity: the coupling must be"):
         edmd.Simulation.from_arrays(**args, self_gravity=-2.0)
     # A line is periodic unless told: self-gravity needs its walls.
-    with pytest.raises(ValueError, match="self_gravity: the line must have walls"):
+    with pytest.raises(ValueError, match="self_gravity: self-gravity needs walls on the line"):
         edmd.Simulation.from_arrays(**line, self_gravity=1.0)
     with pytest.raises(ValueError, match="self_gravity: .*multi-disc"):
         edmd.Simulation.from_arrays(**args, multi=True, self_gravity=1.0)

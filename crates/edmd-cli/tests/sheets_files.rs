@@ -182,13 +182,10 @@ fn a_written_sheets_state_keeps_its_self_gravity_and_a_checkpoint_continues() {
     let dir = tempfile::tempdir().unwrap();
     let bag = dir.path().join("bag.txt");
     let bag = bag.to_str().unwrap();
-    // Rods 2e-3 long: a state file's time must be below the clock's limit for its rods
-    // (`Simulation::clock_limit`, which the reader checks), about 1000 for these and 0.1 for
-    // the default 2e-7; a checkpoint has no such limit.
-    gen_sheets(
-        bag,
-        &["--n", "100", "--coupling", "0.03", "--radius", "1e-3"],
-    );
+    // The default rods, 2e-7 long: hard rods that short could not be placed by the clock
+    // past about t = 0.1 (`Simulation::clock_limit`), but sheets keep their order and have
+    // no such limit, in a run and in the state it writes.
+    gen_sheets(bag, &["--n", "100", "--coupling", "0.03"]);
     let mid = dir.path().join("mid.txt");
     let mid = mid.to_str().unwrap();
     let ck = dir.path().join("bag.ck");
@@ -320,6 +317,8 @@ fn bad_sheets_files_are_refused_in_one_line_naming_the_line() {
         args.extend(extra.iter().filter(|w| !w.is_empty()));
         let out = run("edmd", &args, None);
         refused(&out, &["pair.txt", "'# edmd self-gravity' line"]);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(err.matches("self-gravity").count(), 2, "{err}");
         assert!(!never.exists(), "{extra:?} wrote a file");
     }
     // And the same pair runs without them.

@@ -1,11 +1,11 @@
-//! `edmd soak`, short: the invariants hold over a short dense run in 2D and 3D (RELIABILITY.md
+//! `edmd soak`, short: the invariants hold over a short dense run in 1D, 2D and 3D (RELIABILITY.md
 //! records the long one, 10^9 collisions).
 
 use crate::support::{ok_stdout, run};
 
 #[test]
 fn a_short_soak_passes_every_check() {
-    for (dim, n) in [("2", "1000"), ("3", "864")] {
+    for (dim, n) in [("1", "1000"), ("2", "1000"), ("3", "864")] {
         let out = run(
             "edmd",
             &[

@@ -123,7 +123,8 @@ pub enum Error {
     BadShear(String),
     /// One-dimensional self-gravity that cannot be: a coupling not finite or not above 0, a
     /// dimension other than 1, a periodic line, or self-gravity with what it does not go with.
-    #[error("self-gravity: {0}")]
+    /// Its message names self-gravity itself.
+    #[error("{0}")]
     BadSelfGravity(String),
     /// A ring patch that cannot be: an orbital frequency not finite or not above 0, fewer
     /// than two dimensions, a box without the shearing-periodic axes, or a ring with what it

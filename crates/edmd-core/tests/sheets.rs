@@ -281,3 +281,41 @@ fn the_rods_move_as_sheets_passing_through_each_other() {
         );
     }
 }
+
+#[test]
+fn sheets_have_no_clock_limit_and_start_at_any_time() {
+    // Rods 2e-8 long at speeds near 0.5: as hard rods the clock could not place them from a
+    // time near 2^-3 (`clock_limit`); sheets keep their order, and have no limit.
+    let (discs, sim_box) = WaterBag {
+        n: 50,
+        width: 1.0,
+        speed: 0.5,
+        radius: 1e-8,
+        coupling: 1.0 / 50.0,
+        seed: 4,
+    }
+    .build()
+    .unwrap();
+    let hard = Simulation::new(&discs, sim_box, Options::default()).unwrap();
+    let limit = hard.clock_limit();
+    assert!(limit < 1.0, "{limit}");
+    assert!(matches!(
+        hard.check_clock(40.0),
+        Err(Error::ClockResolution { .. })
+    ));
+    let mut sim = Simulation::new(&discs, sim_box, Options::default()).unwrap();
+    sim.set_self_gravity(Some(SelfGravity {
+        coupling: 1.0 / 50.0,
+    }))
+    .unwrap();
+    assert_eq!(sim.clock_limit(), f64::INFINITY);
+    sim.check_clock(1e6).unwrap();
+    // A state at t = 40, far past the hard rods' limit, starts there and runs on in order.
+    sim.start_at(40.0).unwrap();
+    let e0 = energy(&sim);
+    sim.run_until(45.0, &mut ());
+    assert_eq!(sim.time(), 45.0);
+    assert!(sim.stats().disc_disc > 100, "{:?}", sim.stats());
+    assert!(((energy(&sim) - e0) / e0).abs() < 1e-12);
+    assert_eq!(sim.overlaps(1e-9).count, 0);
+}

@@ -810,7 +810,7 @@ impl PySimulation {
             (Some(t), None) => {
                 // The same limit `edmd run --until` has: beyond it floating-point times are
                 // too far apart to place a disc at contact.
-                each!(&get(slf)?.inner, s => edmd::check_clock(&s.sim, t))
+                each!(&get(slf)?.inner, s => s.sim.check_clock(t))
                     .map_err(|e| value_error(format!("until: {e}")))?;
                 t
             }

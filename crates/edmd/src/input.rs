@@ -343,9 +343,10 @@ pub fn set_ring<const D: usize>(
         .or_else(|e| user_error(format!("{path}: {e} (the file's '# edmd ring' line)")))
 }
 
-/// Puts `sim`, built from `sys`, under the file's one-dimensional self-gravity (nothing
-/// without it), each rod's rank its place from the left now. Self-gravity with the swap rule
-/// or multi-disc collisions is refused in one line naming the file.
+/// Puts `sim`, built from `sys` at time 0, under the file's one-dimensional self-gravity
+/// (nothing without it), each rod's rank its place from the left now, then sets its clock to
+/// the file's time (which may lie beyond the clock limit of hard rods that short). Self-gravity
+/// with the swap rule or multi-disc collisions is refused in one line naming the file.
 pub fn set_self_gravity<const D: usize>(
     path: &str,
     sys: &LoadedSystem<D>,
@@ -358,7 +359,9 @@ pub fn set_self_gravity<const D: usize>(
         user_error(format!(
             "{path}: {e} (the file's '# edmd self-gravity' line)"
         ))
-    })
+    })?;
+    sim.start_at(sys.time)
+        .or_else(|e| user_error(format!("{path}: {e} (the file's '# edmd time' line)")))
 }
 
 /// The simulation of the discs, box, barriers and potential of `sys`, without its reactions.
@@ -379,9 +382,16 @@ fn build_hard<const D: usize>(
             "particles refuses it; 'edmd run --rule swap --allow-overlaps' moves them in",
         )
     };
+    // Under self-gravity the clock has no limit, which the engine knows once the self-gravity
+    // is set: such a file is built at time 0 and its clock set by [`set_self_gravity`].
+    let t0 = if sys.self_gravity.is_some() {
+        0.0
+    } else {
+        sys.time
+    };
     let make = |options| {
         if sys.potential.is_hard() {
-            Simulation::with_barriers_at(&sys.discs, sys.sim_box, &sys.barriers, options, sys.time)
+            Simulation::with_barriers_at(&sys.discs, sys.sim_box, &sys.barriers, options, t0)
         } else {
             Simulation::with_potential_at(
                 &sys.discs,
@@ -389,7 +399,7 @@ fn build_hard<const D: usize>(
                 &sys.barriers,
                 &sys.potential,
                 options,
-                sys.time,
+                t0,
             )
         }
     };

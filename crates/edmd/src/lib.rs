@@ -142,30 +142,15 @@ pub fn run_until<const D: usize, O: edmd_core::Observer<D>>(
 }
 
 /// Refuses an end time (`--until`) at or beyond the clock's limit for this system
-/// ([`check_clock`]): one line naming the file, before any work.
+/// ([`edmd_core::Simulation::check_clock`], never under self-gravity): one line naming the file,
+/// before any work.
 pub fn check_until<const D: usize>(
     sim: &edmd_core::Simulation<D>,
     file: &str,
     until: f64,
 ) -> anyhow::Result<()> {
-    check_clock(sim, until).or_else(|e| user_error(format!("{file}: --until: {e}")))
-}
-
-/// [`edmd_core::Simulation::check_clock`] (a run's end time at or beyond the time from which
-/// floating-point times are too far apart to put a pair at contact within the overlap
-/// tolerance), except under self-gravity, which has no such limit: its rods keep their order,
-/// a gap a rounding error below contact closes at once, and the order is checked with an
-/// allowance for the rounding of the positions and the time (`Simulation::overlaps`), so that
-/// rods far shorter than a position's rounding (`edmd gen sheets` makes them 2e-7 long) run as
-/// sheets to any time. `edmd run`, `edmd render` and Python's `run` go through it.
-pub fn check_clock<const D: usize>(
-    sim: &edmd_core::Simulation<D>,
-    t: f64,
-) -> Result<(), edmd_core::Error> {
-    if sim.self_gravity().is_some() {
-        return Ok(());
-    }
-    sim.check_clock(t)
+    sim.check_clock(until)
+        .or_else(|e| user_error(format!("{file}: --until: {e}")))
 }
 
 /// Events run between two looks at the stop flag in [`run_until_or_stop`] (and `edmd run`):

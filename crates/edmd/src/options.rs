@@ -62,7 +62,7 @@ pub fn parse_dim_with_rods(s: &str) -> Result<usize, String> {
 pub fn parse_dim(s: &str) -> Result<usize, String> {
     if s.trim() == "1" {
         return Err(
-            "this command takes 2 or 3 dimensions; rods on a line (--dim 1) are for gen, run, render, bench and experiment eos"
+            "this command takes 2 or 3 dimensions; rods on a line (--dim 1) are for gen, run, render, bench, soak and experiment eos"
                 .into(),
         );
     }

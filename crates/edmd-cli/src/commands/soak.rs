@@ -11,20 +11,20 @@ use edmd_core::setup::lattice::{close_packing, lattice_fluid_in};
 use edmd_core::{Boundary, Options, Simulation, Vector, OVERLAP_TOLERANCE};
 use serde::Serialize;
 
-use crate::args::{parse_count, parse_dim, parse_positive};
+use crate::args::{parse_count, parse_dim_with_rods, parse_positive};
 use crate::commands::experiment::common::{check_n, check_packings};
 use edmd::user_error;
 
 /// `edmd soak`.
 #[derive(Debug, Args)]
 pub struct SoakArgs {
-    /// Dimension: 2 (discs) or 3 (spheres).
-    #[arg(long, default_value_t = 2, value_parser = parse_dim)]
+    /// Dimension: 1 (rods on a line), 2 (discs) or 3 (spheres).
+    #[arg(long, default_value_t = 2, value_parser = parse_dim_with_rods)]
     pub dim: usize,
     /// Number of discs (spheres in 3D).
     #[arg(long, default_value_t = 10_000, value_parser = parse_count)]
     pub n: usize,
-    /// Packing fraction of the fluid (default 0.6 for discs, 0.45 for spheres).
+    /// Packing fraction of the fluid (default 0.6 for rods and discs, 0.45 for spheres).
     #[arg(long, value_parser = parse_positive, allow_negative_numbers = true)]
     pub packing: Option<f64>,
     /// Disc-disc collisions to run in all (`1e9` is accepted).
@@ -151,6 +151,7 @@ pub struct SoakSummary {
 /// Runs `edmd soak`.
 pub fn run(args: &SoakArgs) -> Result<()> {
     match args.dim {
+        1 => soak::<1>(args),
         3 => soak::<3>(args),
         _ => soak::<2>(args),
     }
@@ -234,7 +235,7 @@ fn soak<const D: usize>(args: &SoakArgs) -> Result<()> {
         edmd::front::print_line(&format!(
             "soak: {} {} at packing {packing}: {} collisions to t = {:.6e} in {:.0} s ({:.3e}/s); largest energy drift {:.1e}, momentum drift {:.1e}; {}",
             sim.len(),
-            if D == 3 { "spheres" } else { "discs" },
+            ["rods", "discs", "spheres"][D - 1],
             last.collisions,
             last.time,
             seconds,

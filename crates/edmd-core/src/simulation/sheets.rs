@@ -144,7 +144,7 @@ impl<const D: usize> Simulation<D> {
         let refuse = |what: &str| Err(Error::BadSelfGravity(what.to_string()));
         if self.sim_box.is_periodic(0) {
             return refuse(
-                "the line must have walls: self-gravity pulls towards the mass on either side, which a periodic line does not have",
+                "self-gravity needs walls on the line: it pulls towards the mass on either side, which a periodic line does not have",
             );
         }
         if self.gravity.is_some() {

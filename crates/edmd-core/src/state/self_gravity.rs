@@ -31,7 +31,7 @@ impl SelfGravity {
         }
         if !(self.coupling.is_finite() && self.coupling > 0.0) {
             return Err(Error::BadSelfGravity(format!(
-                "the coupling must be a finite number above 0, found {:?}",
+                "the self-gravity's coupling must be a finite number above 0, found {:?}",
                 self.coupling
             )));
         }
