@@ -390,6 +390,7 @@ pub fn setup<const D: usize>(u: &mut Unstructured, max_n: usize) -> Result<Setup
         && barriers.is_empty()
         && multi.is_none()
         && gravity.is_none()
+        && D >= 2
         && sim_box.is_periodic(0)
         && sim_box.is_periodic(1)
         && u.ratio(1, 3)?

@@ -4,8 +4,9 @@
 //! O(1) (unlink, link), where a binary tree replays O(log N) matches; the minimum is the end of
 //! the sorted current bucket.
 //!
-//! `M` buckets (a power of two, about `2 N`) cover the times ahead cyclically; events beyond
-//! them wait in an overflow list and are put in their buckets when the calendar comes round.
+//! `M` buckets (a power of two, about `N` in the engine) cover the times ahead cyclically;
+//! events beyond them wait in an overflow list and are put in their buckets when the calendar
+//! comes round.
 //! The width is chosen from the times in the queue so that a bucket holds a few events, and is
 //! chosen again whenever the calendar comes round with buckets far too full or too empty, or
 //! when the current bucket grows far too long (at most once per N updates; then no wider than

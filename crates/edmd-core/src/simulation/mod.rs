@@ -185,13 +185,14 @@ pub struct Simulation<const D: usize = 2> {
     stats: Stats,
 }
 
-/// The event queue for `n` discs in `D` dimensions. In 2D about two buckets per disc, as
-/// always; in 3D about one, which saves 4 bytes per sphere (issue 9 asks for at most 200 at
-/// N = 10^6) and leaves the order of events as it is. The buckets hold a few events each
-/// either way; with half as many, the calendar's horizon is half as far ahead (three times
-/// the mean time to an event rather than six), so a few more events wait in the overflow.
+/// The event queue for `n` discs: about one bucket per disc (a power of two at or above `n`).
+/// The buckets hold a few events each; with one bucket per disc rather than two the calendar's
+/// horizon is half as far ahead (three times the mean time to an event rather than six), so a
+/// few more events wait in the overflow, which costs nothing measurable (BENCHMARKS.md,
+/// "Memory at scale") and saves 4 bytes per disc. The order of events does not depend on the
+/// number of buckets: equal times are sorted by disc index in any bucket.
 pub(crate) fn new_queue<const D: usize>(n: usize) -> CalendarQueue {
-    CalendarQueue::with_buckets(n, if D == 2 { 2 * n } else { n })
+    CalendarQueue::with_buckets(n, n)
 }
 
 /// "No partner found" in `predict` (disc indices are below `u32::MAX`).
