@@ -962,3 +962,35 @@ fn a_column_cooling_without_end_keeps_its_contacts() {
         .fold(f64::INFINITY, f64::min);
     assert!(slowest > 1e-40, "{slowest}");
 }
+
+/// Found by fuzzing (`engine_1d`): `set_self_gravity(None)` on a simulation that had none made
+/// its grid again as wide as the largest diameter, narrower than a stepped potential's lists
+/// need (and not a ring's grid either), so pairs within reach could be left out of the lists,
+/// and the checkpoint, whose reader makes the grid the lists need, did not read back. Removing
+/// self-gravity that is not there now changes nothing.
+#[test]
+fn removing_absent_self_gravity_keeps_a_stepped_potentials_grid() {
+    let r = 0.0811923823716867;
+    let discs = [0.647622382144874, 0.4851806272498397, 0.3227958625064663]
+        .iter()
+        .zip([1.6569846555216237, 0.9235714787120104, 1.74843562634706])
+        .map(|(&x, v)| Disc::new(Vector::new([x]), Vector::new([v]), r))
+        .collect::<Vec<_>>();
+    let well = edmd_core::Potential::single(0, 0, 0.24253720073888257, -8.646061028384338);
+    let mut sim = Simulation::with_potential_at(
+        &discs,
+        SimBox::walls([0.8408026245517661]),
+        &[],
+        &well,
+        Options::default(),
+        0.0,
+    )
+    .unwrap();
+    let before = sim.to_checkpoint(b"");
+    sim.set_self_gravity(None).unwrap();
+    assert_eq!(sim.to_checkpoint(b""), before);
+    sim.run_events(600, &mut ());
+    let ck = sim.to_checkpoint(b"");
+    let (copy, _) = Simulation::<1>::from_checkpoint(&ck).unwrap();
+    assert_eq!(copy.to_checkpoint(b""), ck);
+}

@@ -94,9 +94,15 @@ impl<const D: usize> Simulation<D> {
     /// a uniform field, a stepped potential, reactions, restitution or multi-disc collisions.
     /// Each disc's rank is its place from the left now.
     pub fn set_self_gravity(&mut self, gravity: Option<SelfGravity>) -> Result<(), Error> {
-        if let Some(g) = gravity {
-            g.validate(D)?;
-            self.self_gravity_fits()?;
+        match gravity {
+            Some(g) => {
+                g.validate(D)?;
+                self.self_gravity_fits()?;
+            }
+            // Nothing to undo; and the grid below is not the one a stepped potential's lists
+            // or a ring need, which self-gravity does not go with.
+            None if self.sheets.is_none() => return Ok(()),
+            None => {}
         }
         let now = self.now;
         for i in 0..self.body.len() {
