@@ -44,11 +44,7 @@ pub fn apply<const D: usize>(
     sim.set_self_gravity(gravity).map_err(|e| message(name, e))
 }
 
-/// The engine's refusal as `name: why`.
+/// The engine's refusal as `name: why` (its self-gravity messages name self-gravity).
 fn message(name: &str, e: Error) -> PyErr {
-    let m = match e {
-        Error::BadSelfGravity(m) => m,
-        other => other.to_string(),
-    };
-    value_error(format!("{name}: {m}"))
+    value_error(format!("{name}: {e}"))
 }
