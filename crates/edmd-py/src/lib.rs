@@ -155,12 +155,7 @@ fn built<const D: usize>(
     opts: Options,
     seed: u64,
 ) -> PyResult<Simulation<D>> {
-    let mut sim = edmd::input::build_seeded(name, sys, opts, seed).map_err(cli_error)?;
-    if sys.time != 0.0 {
-        sim.start_at(sys.time)
-            .map_err(|e| value_error(format!("{name}: {e}")))?;
-    }
-    Ok(sim)
+    edmd::input::build_seeded(name, sys, opts, seed).map_err(cli_error)
 }
 
 fn boundary_name(b: Boundary) -> &'static str {

@@ -191,7 +191,7 @@ pub struct Simulation<const D: usize = 2> {
 /// few more events wait in the overflow, which costs nothing measurable (BENCHMARKS.md,
 /// "Memory at scale") and saves 4 bytes per disc. The order of events does not depend on the
 /// number of buckets: equal times are sorted by disc index in any bucket.
-pub(crate) fn new_queue<const D: usize>(n: usize) -> CalendarQueue {
+pub(crate) fn new_queue(n: usize) -> CalendarQueue {
     CalendarQueue::with_buckets(n, n)
 }
 
@@ -483,7 +483,7 @@ impl<const D: usize> Simulation<D> {
             colour: tables.colour,
             species: tables.species,
             image: vec![[0; D]; n],
-            queue: new_queue::<D>(n),
+            queue: new_queue(n),
             grid,
             far_contacts,
             event_time: t0,

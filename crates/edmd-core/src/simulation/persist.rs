@@ -990,7 +990,7 @@ impl<const D: usize> Simulation<D> {
             le.start = start;
             shear = Some(Box::new(le));
         }
-        let mut queue = super::new_queue::<D>(n);
+        let mut queue = super::new_queue(n);
         queue.begin_bulk();
         for (i, &t) in times.iter().enumerate() {
             queue.set(i, t);
