@@ -91,7 +91,7 @@ fn bench_times_rods_on_a_line() {
     assert!(v["melt_seconds"].as_f64().unwrap() >= 0.0);
 }
 
-/// 2^31 discs need about 280 GB: refused in one line naming the need, before anything is
+/// 2^31 discs need about 250 GB: refused in one line naming the need, before anything is
 /// made; one more than that is past the 32-bit indices.
 #[test]
 fn a_bench_larger_than_the_memory_is_refused_at_once() {
@@ -103,7 +103,7 @@ fn a_bench_larger_than_the_memory_is_refused_at_once() {
     assert_eq!(out.status.code(), Some(2));
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(
-        err.contains("2147483648 discs need about 279.2 GB"),
+        err.contains("2147483648 discs need about 247.0 GB"),
         "{err}"
     );
     assert_eq!(err.trim().lines().count(), 1, "{err}");

@@ -183,12 +183,12 @@ fn bench<const D: usize>(args: &BenchArgs) -> Result<BenchResult> {
 }
 
 /// The most discs a bench takes: disc indices are 32-bit, and 2^31 discs already need about
-/// 250 GB.
+/// 210 GB.
 const MAX_BENCH_N: usize = 1 << 31;
 
 /// Peak bytes per disc of a bench, with a margin, by dimension (BENCHMARKS.md, "Memory at
-/// scale": 117 in 1D and 2D, 175 in 3D at 10^6).
-const BYTES_PER_DISC_AT_PEAK: [f64; 3] = [130.0, 130.0, 190.0];
+/// scale": 100 in 2D, 158 in 3D at 10^6).
+const BYTES_PER_DISC_AT_PEAK: [f64; 3] = [115.0, 115.0, 175.0];
 
 /// MemAvailable from /proc/meminfo (Linux), in bytes: a bench that cannot fit is refused
 /// rather than stopped by the kernel halfway.

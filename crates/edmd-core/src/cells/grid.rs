@@ -19,6 +19,58 @@ pub const NONE: u32 = u32::MAX;
 /// Cell coordinates of one cell.
 pub type CellCoord<const D: usize = 2> = [u32; D];
 
+/// Bits that hold a coordinate below `d`.
+fn bits(d: u64) -> u32 {
+    64 - (d.max(1) - 1).leading_zeros()
+}
+
+/// Bits that hold a cell's coordinates on every axis, side by side (see [`Coder`]).
+fn code_bits(counts: &[u64]) -> u32 {
+    counts.iter().map(|&d| bits(d)).sum()
+}
+
+/// A cell's coordinates side by side in 32 bits, axis `a` from bit `shift[a]`: 4 bytes a disc
+/// for the cell it is in rather than `4 D`, read back with a shift and a mask (BENCHMARKS.md,
+/// "Memory at scale").
+#[derive(Clone, Copy, Debug)]
+struct Coder<const D: usize> {
+    shift: [u32; D],
+    mask: [u32; D],
+}
+
+impl<const D: usize> Coder<D> {
+    /// The coder for a grid of `counts` cells, if their coordinates fit in 32 bits.
+    fn new(counts: [u64; D]) -> Option<Self> {
+        if code_bits(&counts) > 32 {
+            return None;
+        }
+        let (mut shift, mut mask) = ([0u32; D], [0u32; D]);
+        let mut at = 0;
+        for a in 0..D {
+            shift[a] = at;
+            mask[a] = ((1u64 << bits(counts[a])) - 1) as u32;
+            at += bits(counts[a]);
+        }
+        Some(Coder { shift, mask })
+    }
+
+    #[inline(always)]
+    fn encode(&self, c: CellCoord<D>) -> u32 {
+        let mut k = 0;
+        for a in 0..D {
+            k |= c[a].wrapping_shl(self.shift[a]) & self.mask[a].wrapping_shl(self.shift[a]);
+        }
+        k
+    }
+
+    #[inline(always)]
+    fn decode(&self, k: u32) -> CellCoord<D> {
+        // An axis of one cell has no bits: its mask is 0, and its shift may be 32, which the
+        // wrapping shifts take as 0.
+        std::array::from_fn(|a| k.wrapping_shr(self.shift[a]) & self.mask[a])
+    }
+}
+
 /// The grid and the discs' places in it.
 #[derive(Clone, Debug)]
 pub struct CellGrid<const D: usize = 2> {
@@ -42,7 +94,9 @@ pub struct CellGrid<const D: usize = 2> {
     /// past its end, so that the x86-64-v3 scan reads a cell with one load and no branch
     /// (`simulation/scan_x86.rs`); the list goes on from the fourth's `next`.
     first: Vec<[u32; 4]>,
-    cell: Vec<CellCoord<D>>,
+    /// Each disc's cell, coded by `coder` ([`Self::cell_counts`] keeps a grid within 32 bits).
+    code: Vec<u32>,
+    coder: Coder<D>,
 }
 
 impl<const D: usize> CellGrid<D> {
@@ -64,6 +118,7 @@ impl<const D: usize> CellGrid<D> {
     pub fn with_counts(sim_box: &SimBox<D>, n: usize, counts: [u64; D]) -> Result<Self, Error> {
         if counts.iter().any(|&c| c == 0 || c > u32::MAX as u64 / 4)
             || counts.iter().fold(1u64, |t, &c| t.saturating_mul(c)) > Self::max_cells(n) as u64
+            || Coder::new(counts).is_none()
         {
             return Err(Error::Invalid(format!("too many cells ({counts:?})")));
         }
@@ -82,6 +137,7 @@ impl<const D: usize> CellGrid<D> {
                 .checked_mul(d as usize)
                 .ok_or_else(|| Error::Invalid("too many cells".into()))?;
         }
+        let coder = Coder::new(counts).expect("checked above");
         let offsets = neighbour_offsets::<D>();
         let linear_offsets =
             offsets.map(|o| (0..D).map(|a| o[a] as isize * stride[a] as isize).sum());
@@ -96,7 +152,8 @@ impl<const D: usize> CellGrid<D> {
             head: filled(NONE, total),
             next: filled(NONE, n),
             first: filled([NONE; 4], if D == 3 { total } else { 0 }),
-            cell: filled([0; D], n),
+            code: filled(0, n),
+            coder,
         })
     }
 
@@ -120,7 +177,25 @@ impl<const D: usize> CellGrid<D> {
     /// axes, until every remaining axis takes at least its minimum. Then the product of the
     /// counts is at most `2 N` (or `3^D`, all axes at their minimum), and every cell is still
     /// at least `max_diameter` wide.
+    ///
+    /// Last, if a cell's coordinates would not fit in 32 bits side by side (only beyond some
+    /// `5 10^8` spheres, or `2 10^9` discs), the axis with the most cells is given half as many
+    /// until they do: wider cells, never narrower.
     pub fn cell_counts(
+        sim_box: &SimBox<D>,
+        n: usize,
+        max_diameter: f64,
+    ) -> Result<[u64; D], Error> {
+        let mut counts = Self::cell_counts_in_any_bits(sim_box, n, max_diameter)?;
+        while code_bits(&counts) > 32 {
+            let a = (0..D).max_by_key(|&a| counts[a]).expect("D >= 1");
+            let fewest = if sim_box.is_periodic(a) { 3 } else { 1 };
+            counts[a] = (counts[a] / 2).max(fewest);
+        }
+        Ok(counts)
+    }
+
+    fn cell_counts_in_any_bits(
         sim_box: &SimBox<D>,
         n: usize,
         max_diameter: f64,
@@ -220,20 +295,20 @@ impl<const D: usize> CellGrid<D> {
     /// The cell disc `i` is filed in.
     #[inline(always)]
     pub fn cell_of(&self, i: usize) -> CellCoord<D> {
-        self.cell[i]
+        self.coder.decode(self.code[i])
     }
 
     /// Prefetches the entry that says which cell disc `i` is in.
     #[inline(always)]
     pub(crate) fn prefetch_cell_of(&self, i: usize) {
-        crate::hint::prefetch(&self.cell[i]);
+        crate::hint::prefetch(&self.code[i]);
     }
 
     /// Prefetches the list heads of the cells around disc `i`'s (away from the grid's edges;
     /// a hint only).
     #[inline(always)]
     pub(crate) fn prefetch_heads_around(&self, i: usize) {
-        let c = self.cell[i];
+        let c = self.cell_of(i);
         if self.interior(c) {
             let base = self.linear(c) as isize;
             for &off in &self.linear_offsets[..Self::NEIGHBOURS] {
@@ -253,7 +328,7 @@ impl<const D: usize> CellGrid<D> {
     /// empty is a coin toss).
     #[inline(always)]
     pub(crate) fn prefetch_first_around(&self, i: usize, mut f: impl FnMut(u32)) {
-        let c = self.cell[i];
+        let c = self.cell_of(i);
         if self.interior(c) {
             let base = self.linear(c) as isize;
             for &off in &self.linear_offsets[..Self::NEIGHBOURS] {
@@ -272,7 +347,7 @@ impl<const D: usize> CellGrid<D> {
         let k = self.linear(c);
         self.next[i] = self.head[k];
         self.head[k] = i as u32;
-        self.cell[i] = c;
+        self.code[i] = self.coder.encode(c);
         self.refresh_first(k);
     }
 
@@ -295,7 +370,7 @@ impl<const D: usize> CellGrid<D> {
 
     /// Takes disc `i` out of its cell.
     pub fn remove(&mut self, i: usize) {
-        let k = self.linear(self.cell[i]);
+        let k = self.linear(self.cell_of(i));
         let n = self.next[i];
         let mut p = self.head[k];
         if p == i as u32 {
@@ -322,7 +397,7 @@ impl<const D: usize> CellGrid<D> {
     /// Computed without branches on the direction of motion (BENCHMARKS.md).
     #[inline(always)]
     pub fn exit_time(&self, i: usize, p: Vector<D>, v: Vector<D>) -> (f64, usize, bool) {
-        let c = self.cell[i];
+        let c = self.cell_of(i);
         let (mut best, mut axis, mut high) = (f64::INFINITY, 0usize, false);
         for a in 0..D {
             let walled = !self.periodic[a];
@@ -357,7 +432,7 @@ impl<const D: usize> CellGrid<D> {
         axis: usize,
         g: f64,
     ) -> (f64, usize, bool) {
-        let c = self.cell[i];
+        let c = self.cell_of(i);
         let (mut best, mut best_axis, mut high) = (f64::INFINITY, 0usize, false);
         for a in 0..D {
             let walled = !self.periodic[a];
@@ -385,7 +460,7 @@ impl<const D: usize> CellGrid<D> {
     /// For checking checkpoints: a disc filed in a cell it is not in is missed by the scans
     /// of its neighbours.
     pub(crate) fn holds(&self, i: usize, p: Vector<D>, slack: f64) -> bool {
-        let c = self.cell[i];
+        let c = self.cell_of(i);
         (0..D).all(|a| {
             let walled = !self.periodic[a];
             let last = c[a] + 1 >= self.dims[a];
@@ -410,7 +485,7 @@ impl<const D: usize> CellGrid<D> {
     /// Moves disc `i` one cell along `axis` towards `side`. Returns the image shift (`-1`, `0` or
     /// `+1` box lengths) that a periodic wrap applies to the disc's coordinate on that axis.
     pub fn cross(&mut self, i: usize, axis: usize, side: Side) -> i32 {
-        let mut c = self.cell[i];
+        let mut c = self.cell_of(i);
         let d = self.dims[axis];
         let mut wrap = 0;
         match side {
@@ -677,7 +752,7 @@ impl<const D: usize> CellGrid<D> {
     /// cell (for checkpoints). The back links are worked out here: the checkpoint format has
     /// them from the time the lists were doubly linked.
     #[allow(clippy::type_complexity)]
-    pub(crate) fn lists(&self) -> (&[u32], &[u32], Vec<u32>, &[CellCoord<D>]) {
+    pub(crate) fn lists(&self) -> (&[u32], &[u32], Vec<u32>, Vec<CellCoord<D>>) {
         let mut prev = vec![NONE; self.next.len()];
         for &h in &self.head {
             let mut j = h;
@@ -689,7 +764,8 @@ impl<const D: usize> CellGrid<D> {
                 j = n;
             }
         }
-        (&self.head, &self.next, prev, &self.cell)
+        let cell = (0..self.code.len()).map(|i| self.cell_of(i)).collect();
+        (&self.head, &self.next, prev, cell)
     }
 
     /// Puts back lists taken by [`Self::lists`] from a grid built the same way, after checking
@@ -734,7 +810,8 @@ impl<const D: usize> CellGrid<D> {
         if let Some(i) = seen.iter().position(|s| !s) {
             return Err(format!("disc {i} is in no cell"));
         }
-        (self.head, self.next, self.cell) = (head, next, cell);
+        let code = cell.iter().map(|&c| self.coder.encode(c)).collect();
+        (self.head, self.next, self.code) = (head, next, code);
         for k in 0..self.first.len() {
             self.refresh_first(k);
         }
@@ -746,7 +823,7 @@ impl<const D: usize> CellGrid<D> {
         self.head.capacity() * 4
             + self.next.capacity() * 4
             + self.first.capacity() * 16
-            + self.cell.capacity() * std::mem::size_of::<CellCoord<D>>()
+            + self.code.capacity() * 4
     }
 }
 
@@ -964,6 +1041,35 @@ mod tests {
         // Periodic axes keep at least 3 cells.
         let g = CellGrid::new(&SimBox::periodic([100.0, 100.0]), 1, 1.0).unwrap();
         assert_eq!(g.dims(), [3, 3]);
+    }
+
+    /// Each disc's cell is kept as its coordinates side by side in 32 bits: they read back
+    /// exactly on every axis, an axis of one cell (no bits) included, and a grid whose
+    /// coordinates would need more bits gets fewer, wider cells.
+    #[test]
+    fn cell_coordinates_fit_in_32_bits() {
+        let b = SimBox::walls([1000.0, 1.0, 37.0]);
+        let mut g = CellGrid::<3>::with_counts(&b, 10_000, [1000, 1, 37]).unwrap();
+        for (i, c) in [[999, 0, 36], [0, 0, 0], [512, 0, 1], [1, 0, 35]]
+            .into_iter()
+            .enumerate()
+        {
+            g.insert(i, c);
+            assert_eq!(g.cell_of(i), c);
+        }
+        // 2^30 - 1 cells on one axis, 4 on the next and one on the last: all 32 bits, the last
+        // axis's shift 32.
+        let coder = Coder::new([(1 << 30) - 1, 4, 1]).unwrap();
+        for c in [[(1 << 30) - 2, 3, 0], [0, 0, 0], [5, 2, 0]] {
+            assert_eq!(coder.decode(coder.encode(c)), c);
+        }
+        assert!(Coder::new([(1 << 30) - 1, 5, 1]).is_none());
+        // 7 10^8 spheres of diameter 1 in a periodic box 1100 wide would have 1100 cells a
+        // side, 11 bits each: one axis is halved.
+        let counts =
+            CellGrid::<3>::cell_counts(&SimBox::periodic([1100.0; 3]), 700_000_000, 1.0).unwrap();
+        assert_eq!(counts, [1100, 1100, 550]);
+        assert!(code_bits(&counts) <= 32);
     }
 
     #[test]

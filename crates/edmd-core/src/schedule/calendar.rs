@@ -1,11 +1,11 @@
 //! A calendar queue (R. Brown 1988; for EDMD, G. Paul, J. Comput. Phys. 221 (2007) 615): time
-//! is cut into buckets of equal width, each an unsorted doubly linked list of the discs whose
+//! is cut into buckets of equal width, each an unsorted singly linked list of the discs whose
 //! event falls in it, and only the current bucket is kept sorted. Setting a disc's time is
 //! O(1) (unlink, link), where a binary tree replays O(log N) matches; the minimum is the end of
 //! the sorted current bucket.
 //!
 //! `M` buckets (a power of two, about `N` in the engine) cover the times ahead cyclically;
-//! events beyond them wait in an overflow list and are put in their buckets when the calendar
+//! events beyond them wait in the overflow and are put in their buckets when the calendar
 //! comes round.
 //! The width is chosen from the times in the queue so that a bucket holds a few events, and is
 //! chosen again whenever the calendar comes round with buckets far too full or too empty, or
@@ -15,16 +15,25 @@
 //! Bucket numbers are `floor((t - origin) / width)`, a monotone function of `t` under rounding,
 //! so an earlier event is never in a later bucket, and equal times share a bucket, where they
 //! are sorted by disc index: the engine's tie rule holds exactly.
+//!
+//! Each disc costs 12 bytes and a bucket 4: its time and one link, which also says where the
+//! disc is. A disc in a bucket's list finds its bucket again from its time (the same
+//! arithmetic as when it was filed, and the width and origin change only when every disc is
+//! filed again), so the lists need no back links: taking a disc out walks its bucket's few
+//! entries from the head. The overflow is not a list: the discs in it are found by a pass over
+//! the links when the calendar comes round, once in about `M` buckets' worth of events.
 
 use super::EventQueue;
 use crate::hint::filled;
 
-/// `slot` value of a disc in the sorted current bucket.
+/// `next` of a disc in the sorted current bucket.
 const CURRENT: u32 = u32::MAX;
-/// `slot` value of a disc in the overflow list.
+/// `next` of a disc in the overflow.
 const OVERFLOW: u32 = u32::MAX - 1;
-/// End of a list.
-const NONE: u32 = u32::MAX;
+/// End of a bucket's list (and the head of an empty bucket).
+const END: u32 = u32::MAX - 2;
+/// Discs a queue can hold: every index is below [`END`].
+pub const MAX_LEN: usize = END as usize;
 /// Events per bucket the width aims at.
 const PER_BUCKET: f64 = 3.0;
 /// A current bucket longer than this makes the queue re-tune its width.
@@ -34,13 +43,10 @@ const OVERFULL: usize = 64;
 #[derive(Clone, Debug)]
 pub struct CalendarQueue {
     time: Vec<f64>,
-    /// Bucket (`0..M`) holding each disc, or [`CURRENT`] or [`OVERFLOW`].
-    slot: Vec<u32>,
+    /// The next disc in the same bucket's list or [`END`]; or [`CURRENT`] or [`OVERFLOW`].
     next: Vec<u32>,
-    prev: Vec<u32>,
     /// First disc of each bucket's list.
     head: Vec<u32>,
-    overflow: u32,
     /// The current bucket, sorted by decreasing `(time, disc)`: the minimum is last.
     current: Vec<(f64, u32)>,
     /// Absolute number of the current bucket.
@@ -62,7 +68,7 @@ impl CalendarQueue {
     /// Bytes held.
     pub fn memory_bytes(&self) -> usize {
         self.time.capacity() * 8
-            + (self.slot.capacity() + self.next.capacity() + self.prev.capacity()) * 4
+            + self.next.capacity() * 4
             + self.head.capacity() * 4
             + self.current.capacity() * 16
     }
@@ -93,14 +99,12 @@ impl CalendarQueue {
         }
     }
 
+    /// The bucket (`0..M`) whose list holds disc `i`, which is in one: the arithmetic that
+    /// filed it, on the same time, origin and width.
     #[inline(always)]
-    fn link(&mut self, i: usize, list_head: u32) -> u32 {
-        self.next[i] = list_head;
-        self.prev[i] = NONE;
-        if list_head != NONE {
-            self.prev[list_head as usize] = i as u32;
-        }
-        i as u32
+    fn listed_bucket(&self, i: usize) -> usize {
+        let x = (self.time[i] - self.origin) * self.inv_width;
+        ((x as u64) & (self.buckets() - 1)) as usize
     }
 
     #[inline(always)]
@@ -112,24 +116,21 @@ impl CalendarQueue {
                 // Decreasing order: the first place whose entry is below `key`.
                 let at = self.current.partition_point(|&e| e > key);
                 self.current.insert(at, key);
-                self.slot[i] = CURRENT;
+                self.next[i] = CURRENT;
             }
             Some(b) => {
                 let s = (b & (self.buckets() - 1)) as usize;
-                self.head[s] = self.link(i, self.head[s]);
-                self.slot[i] = s as u32;
+                self.next[i] = self.head[s];
+                self.head[s] = i as u32;
                 self.in_buckets += 1;
             }
-            None => {
-                self.overflow = self.link(i, self.overflow);
-                self.slot[i] = OVERFLOW;
-            }
+            None => self.next[i] = OVERFLOW,
         }
     }
 
     #[inline(always)]
     fn remove(&mut self, i: usize) {
-        match self.slot[i] {
+        match self.next[i] {
             CURRENT => {
                 let key = (self.time[i], i as u32);
                 // Mostly the front disc, whose event was just processed: the last entry.
@@ -141,21 +142,20 @@ impl CalendarQueue {
                     self.current.remove(at);
                 }
             }
-            s => {
-                let (p, n) = (self.prev[i], self.next[i]);
-                if p != NONE {
-                    self.next[p as usize] = n;
-                } else if s == OVERFLOW {
-                    self.overflow = n;
+            OVERFLOW => {}
+            n => {
+                let s = self.listed_bucket(i);
+                let mut p = self.head[s];
+                if p == i as u32 {
+                    self.head[s] = n;
                 } else {
-                    self.head[s as usize] = n;
+                    while self.next[p as usize] != i as u32 {
+                        debug_assert!(self.next[p as usize] < END, "disc {i} not in bucket {s}");
+                        p = self.next[p as usize];
+                    }
+                    self.next[p as usize] = n;
                 }
-                if n != NONE {
-                    self.prev[n as usize] = p;
-                }
-                if s != OVERFLOW {
-                    self.in_buckets -= 1;
-                }
+                self.in_buckets -= 1;
             }
         }
     }
@@ -165,13 +165,9 @@ impl CalendarQueue {
     fn advance(&mut self) -> bool {
         loop {
             if self.in_buckets == 0 {
-                // Only the overflow is left: start the calendar again at its earliest time.
-                let mut first = f64::INFINITY;
-                let mut j = self.overflow;
-                while j != NONE {
-                    first = first.min(self.time[j as usize]);
-                    j = self.next[j as usize];
-                }
+                // Only the overflow is left (every disc is in it): start the calendar again at
+                // its earliest time.
+                let first = self.time.iter().fold(f64::INFINITY, |a, &t| a.min(t));
                 if first == f64::INFINITY {
                     return false;
                 }
@@ -189,14 +185,14 @@ impl CalendarQueue {
             }
             let s = (self.cur & (self.buckets() - 1)) as usize;
             let mut j = self.head[s];
-            self.head[s] = NONE;
-            self.opened += (j != NONE) as u64;
-            while j != NONE {
+            self.head[s] = END;
+            self.opened += (j != END) as u64;
+            while j != END {
                 self.current.push((self.time[j as usize], j));
-                self.slot[j as usize] = CURRENT;
+                let next = std::mem::replace(&mut self.next[j as usize], CURRENT);
                 self.in_buckets -= 1;
                 self.taken += 1;
-                j = self.next[j as usize];
+                j = next;
             }
             if self.current.is_empty() {
                 continue;
@@ -231,12 +227,10 @@ impl CalendarQueue {
             self.rebuild(now);
             return;
         }
-        let mut j = self.overflow;
-        self.overflow = NONE;
-        while j != NONE {
-            let next = self.next[j as usize];
-            self.insert(j as usize);
-            j = next;
+        for i in 0..self.next.len() {
+            if self.next[i] == OVERFLOW {
+                self.insert(i);
+            }
         }
     }
 
@@ -297,8 +291,7 @@ impl CalendarQueue {
         self.inv_width = inv_width;
         self.origin = now;
         self.cur = 0;
-        self.head.fill(NONE);
-        self.overflow = NONE;
+        self.head.fill(END);
         self.current.clear();
         self.in_buckets = 0;
         self.opened = 0;
@@ -309,7 +302,7 @@ impl CalendarQueue {
                 // Sorted once below rather than one insertion at a time.
                 Some(b) if b == self.cur => {
                     self.current.push((self.time[i], i as u32));
-                    self.slot[i] = CURRENT;
+                    self.next[i] = CURRENT;
                 }
                 _ => self.insert(i),
             }
@@ -319,19 +312,20 @@ impl CalendarQueue {
 }
 
 impl CalendarQueue {
-    /// A queue for `n` discs with at least `buckets` buckets (a power of two; `with_len` makes
-    /// about `2 n`). Fewer buckets save memory (4 bytes each) and put more events in the
-    /// overflow list, which is filed again each time the calendar comes round; the order of
-    /// events is the same for any count.
+    /// A queue for `n` discs (at most [`MAX_LEN`]) with at least `buckets` buckets (a power
+    /// of two; `with_len` makes about `2 n`). Fewer buckets save memory (4 bytes each) and put
+    /// more events in the overflow, which is filed again each time the calendar comes round;
+    /// the order of events is the same for any count.
     pub fn with_buckets(n: usize, buckets: usize) -> Self {
+        assert!(
+            n <= MAX_LEN,
+            "a calendar queue holds at most {MAX_LEN} discs"
+        );
         let m = buckets.max(2).next_power_of_two();
-        let mut q = CalendarQueue {
+        CalendarQueue {
             time: filled(f64::INFINITY, n),
-            slot: filled(OVERFLOW, n),
-            next: filled(NONE, n),
-            prev: filled(NONE, n),
-            head: filled(NONE, m),
-            overflow: NONE,
+            next: filled(OVERFLOW, n),
+            head: filled(END, m),
             current: Vec::new(),
             cur: 0,
             origin: 0.0,
@@ -341,11 +335,7 @@ impl CalendarQueue {
             taken: 0,
             bulk: false,
             sets: 0,
-        };
-        for i in 0..n {
-            q.overflow = q.link(i, q.overflow);
         }
-        q
     }
 }
 
@@ -458,7 +448,7 @@ mod tests {
             };
             a.set(i, t);
             b.set(i, t);
-            overflowed |= a.slot[i] == OVERFLOW && t.is_finite();
+            overflowed |= a.next[i] == OVERFLOW && t.is_finite();
             came_round |= a.cur >= a.buckets();
             // Another disc changes course too, as a collision partner does.
             let j = (uniform() * n as f64) as usize;

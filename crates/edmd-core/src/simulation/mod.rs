@@ -34,6 +34,7 @@ mod check;
 mod cluster;
 mod event_loop;
 mod field;
+mod images;
 mod inelastic;
 mod options;
 mod per_disc;
@@ -116,7 +117,7 @@ pub struct Simulation<const D: usize = 2> {
     colour: PerDisc<Colour>,
     species: PerDisc<u16>,
     /// Periodic images crossed per disc, for unwrapped positions.
-    image: Vec<[i32; D]>,
+    image: images::Images<D>,
     queue: CalendarQueue,
     grid: CellGrid<D>,
     /// Whether the grid's candidates can be far enough for contact times to need the far form
@@ -392,7 +393,7 @@ impl<const D: usize> Simulation<D> {
                 "start time {t0:?} is not a finite time >= 0"
             )));
         }
-        if discs.len() >= u32::MAX as usize {
+        if discs.len() > crate::schedule::calendar::MAX_LEN {
             return Err(Error::Invalid(format!("too many discs ({})", discs.len())));
         }
         for a in 0..D {
@@ -482,7 +483,7 @@ impl<const D: usize> Simulation<D> {
             mass: tables.mass,
             colour: tables.colour,
             species: tables.species,
-            image: vec![[0; D]; n],
+            image: images::Images::new(n),
             queue: new_queue(n),
             grid,
             far_contacts,
@@ -624,11 +625,12 @@ impl<const D: usize> Simulation<D> {
     /// images' offset (counted from when the shear was set, without wrapping).
     pub fn unwrapped_position(&self, i: usize) -> Vector<D> {
         let mut p = self.position_of(i, self.now);
+        let image = self.image.get(i);
         for a in 0..D {
-            p[a] += self.image[i][a] as f64 * self.sim_box.lengths[a];
+            p[a] += image[a] as f64 * self.sim_box.lengths[a];
         }
         if let Some(s) = self.shear.as_deref() {
-            p[0] += self.image[i][1] as f64 * s.slide(self.now);
+            p[0] += image[1] as f64 * s.slide(self.now);
         }
         p
     }
@@ -833,7 +835,7 @@ impl<const D: usize> Simulation<D> {
             + self.mass.memory_bytes()
             + self.colour.memory_bytes()
             + self.species.memory_bytes()
-            + self.image.capacity() * size_of::<[i32; D]>()
+            + self.image.memory_bytes()
             + self.queue.memory_bytes()
             + self.grid.memory_bytes()
             + self.steps.as_ref().map_or(0, |s| s.memory_bytes())

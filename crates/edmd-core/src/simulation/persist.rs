@@ -258,8 +258,8 @@ impl<const D: usize> Simulation<D> {
                 w.u8(c);
             }
             w.u32(self.species[i] as u32);
-            for a in 0..D {
-                w.u32(self.image[i][a] as u32);
+            for k in self.image.get(i) {
+                w.u32(k as u32);
             }
             if !self.below.is_empty() {
                 w.u8(self.below[i]);
@@ -540,7 +540,7 @@ impl<const D: usize> Simulation<D> {
         super::barriers::validate_barriers(&barriers, &sim_box)
             .map_err(|e| Error::Checkpoint(format!("barriers: {e}")))?;
         let n = r.len(8 * (2 * D + 5))?;
-        if n >= u32::MAX as usize {
+        if n > crate::schedule::calendar::MAX_LEN {
             return bad(format!("{n} discs"));
         }
         let mut body = crate::hint::records(n);
@@ -1018,7 +1018,7 @@ impl<const D: usize> Simulation<D> {
             mass: super::PerDisc::from_vec(mass),
             colour: super::PerDisc::from_vec(colour),
             species: super::PerDisc::from_vec(species),
-            image,
+            image: super::images::Images::from_vec(image),
             queue,
             grid,
             far_contacts,

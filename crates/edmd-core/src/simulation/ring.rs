@@ -332,7 +332,7 @@ impl<const D: usize> Simulation<D> {
             let b = &mut self.body[i];
             b.pos[1] += sign * ly;
             b.pos[1] = b.pos[1].clamp(0.0, ly.next_down());
-            self.image[i][1] = self.image[i][1].wrapping_sub(sign as i32);
+            self.image.add(i, 1, (sign as i32).wrapping_neg());
             if let Some(s) = self.shear.as_deref() {
                 let slid = s.slide(t) / lx;
                 let whole = slid.floor();
@@ -340,7 +340,7 @@ impl<const D: usize> Simulation<D> {
                 let b = &mut self.body[i];
                 b.pos[0] += sign * offset;
                 b.vel[0] += sign * s.speed;
-                self.image[i][0] = self.image[i][0].wrapping_add((sign * whole) as i32);
+                self.image.add(i, 0, (sign * whole) as i32);
             }
             folded = Some((1, if up { Side::High } else { Side::Low }));
         }
@@ -349,7 +349,7 @@ impl<const D: usize> Simulation<D> {
             let wraps = (x / lx).floor();
             let b = &mut self.body[i];
             b.pos[0] = (x - wraps * lx).clamp(0.0, lx.next_down());
-            self.image[i][0] = self.image[i][0].wrapping_add(wraps as i32);
+            self.image.add(i, 0, wraps as i32);
             folded = Some((0, if wraps > 0.0 { Side::High } else { Side::Low }));
         }
         folded

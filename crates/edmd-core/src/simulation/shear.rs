@@ -398,7 +398,7 @@ impl<const D: usize> Simulation<D> {
             // Unwrapped, the disc is where it was: `x + image_x L_x + image_y delta(t)`, with
             // `delta(t) = offset + whole L_x` (`unwrapped_position`).
             let di = wraps as i64 + sign as i64 * whole as i64;
-            self.image[i][0] = self.image[i][0].wrapping_add(di as i32);
+            self.image.add(i, 0, di as i32);
             let mut c = self.grid.cell_of(i);
             c[0] = self.grid.coord_of(self.body[i].pos)[0];
             self.grid.remove(i);

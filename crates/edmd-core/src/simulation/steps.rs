@@ -347,7 +347,8 @@ impl<const D: usize> Simulation<D> {
         for i in 0..n {
             let b = &mut self.body[i];
             b.advance_to(now);
-            self.image[i] = wrap_into(&mut b.pos, &self.sim_box, self.image[i]);
+            let image = wrap_into(&mut b.pos, &self.sim_box, self.image.get(i));
+            self.image.set(i, image);
             steps.centre[i] = b.pos;
             steps.near[i].clear();
         }
@@ -398,7 +399,8 @@ impl<const D: usize> Simulation<D> {
     pub(super) fn relist(&mut self, i: usize, t: f64) -> EventRecord<D> {
         let b = &mut self.body[i];
         b.advance_to(t);
-        self.image[i] = wrap_into(&mut b.pos, &self.sim_box, self.image[i]);
+        let image = wrap_into(&mut b.pos, &self.sim_box, self.image.get(i));
+        self.image.set(i, image);
         let p = b.pos;
         let steps = self.steps.as_deref_mut().expect("a stepped simulation");
         steps.centre[i] = p;
