@@ -994,3 +994,26 @@ fn removing_absent_self_gravity_keeps_a_stepped_potentials_grid() {
     let (copy, _) = Simulation::<1>::from_checkpoint(&ck).unwrap();
     assert_eq!(copy.to_checkpoint(b""), ck);
 }
+
+/// Found by `engine_3d`: a shear's offset a hair below `L_x` (its largest valid value) made
+/// `(offset / width)` round to the column count, so the images' slide started at a whole turn
+/// where the state says it lies in `[0, columns)`, and the simulation's own checkpoint was
+/// refused ("shear from t = 0 at 3 cells").
+#[test]
+fn a_shear_offset_a_hair_below_the_box_length_checkpoints() {
+    let l = 3.3;
+    let discs = [
+        Disc::new(Vector::new([0.5, 0.5]), Vector::new([1.0, 0.3]), 0.5),
+        Disc::new(Vector::new([2.0, 2.0]), Vector::new([-0.4, 0.8]), 0.5),
+    ];
+    let mut sim = Simulation::new(&discs, SimBox::periodic([l, l]), Options::default()).unwrap();
+    assert_eq!(sim.grid_dims()[0], 3);
+    let offset = f64::next_down(l);
+    assert_eq!(offset / (l / 3.0), 3.0, "the offset rounds to a whole turn");
+    sim.set_shear(Some(edmd_core::Shear { rate: 0.25, offset }))
+        .unwrap();
+    sim.run_events(50, &mut ());
+    let ck = sim.to_checkpoint(b"");
+    let (copy, _) = Simulation::<2>::from_checkpoint(&ck).unwrap();
+    assert_eq!(copy.to_checkpoint(b""), ck);
+}

@@ -66,7 +66,9 @@ impl LeesEdwards {
         LeesEdwards {
             rate: s.rate,
             origin,
-            start: (s.offset / width).clamp(0.0, f64::from(columns)),
+            // An offset a hair below `L_x` can round to a whole turn of columns: the slide is
+            // kept in `[0, columns)`, as the checkpoint reader requires, by at most an ulp.
+            start: (s.offset / width).clamp(0.0, f64::from(columns).next_down()),
             speed,
             per_time: speed / width,
             width,
