@@ -56,9 +56,11 @@ impl<const D: usize> Coder<D> {
 
     #[inline(always)]
     fn encode(&self, c: CellCoord<D>) -> u32 {
+        // Coordinates are below their axis's count, so they fit their bits; an axis of one
+        // cell (shift possibly 32, taken as 0 by the wrapping shift) only ever has 0.
         let mut k = 0;
         for a in 0..D {
-            k |= c[a].wrapping_shl(self.shift[a]) & self.mask[a].wrapping_shl(self.shift[a]);
+            k |= c[a].wrapping_shl(self.shift[a]);
         }
         k
     }

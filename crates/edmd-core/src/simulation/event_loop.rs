@@ -547,7 +547,7 @@ impl<const D: usize> Simulation<D> {
         let wrap = self.grid.cross(i, axis, side);
         if wrap != 0 {
             self.body[i].pos[axis] += wrap as f64 * self.sim_box.lengths[axis];
-            self.image.add(i, axis, wrap.wrapping_neg());
+            self.image.add(i, axis, -wrap);
         }
         self.stats.cell_crossing = self.stats.cell_crossing.wrapping_add(1);
         EventRecord {

@@ -332,7 +332,7 @@ impl<const D: usize> Simulation<D> {
             let b = &mut self.body[i];
             b.pos[1] += sign * ly;
             b.pos[1] = b.pos[1].clamp(0.0, ly.next_down());
-            self.image.add(i, 1, (sign as i32).wrapping_neg());
+            self.image.add(i, 1, -(sign as i32));
             if let Some(s) = self.shear.as_deref() {
                 let slid = s.slide(t) / lx;
                 let whole = slid.floor();
