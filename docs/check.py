@@ -17,10 +17,12 @@ later one), with the folder given by --bin first on the PATH (it must hold `edmd
 `particles`). A block preceded by a line `<!-- no-run: REASON -->` is skipped: builds,
 installs, long runs, windows. A ```text block preceded by `<!-- file: NAME -->` is written to
 the scratch folder as NAME, so that the commands after it can read the file shown. Each block runs under `bash -e -o pipefail`; a block that fails
-is printed with its output, and the script exits 1.
+is printed with its output, and the script exits 1. Pages run side by side, one per processor
+(--jobs N to choose).
 """
 
 import argparse
+import concurrent.futures
 import os
 import re
 import shutil
@@ -161,40 +163,52 @@ def blocks(path):
     return out
 
 
-def check_examples(bin_dir, pages):
+def run_page(page, env):
+    """Runs one page's blocks in its own scratch folder: (report lines, ran, failed, skipped)."""
+    report, ran, failed, skipped = [], 0, 0, 0
+    work = tempfile.mkdtemp(prefix="edmd-doc-")
+    os.symlink(os.path.join(ROOT, "examples"), os.path.join(work, "examples"))
+    try:
+        for line, kind, body, extra in blocks(page):
+            name = f"{os.path.relpath(page, ROOT)}:{line}"
+            if kind == "file":
+                with open(os.path.join(work, extra), "w", encoding="utf-8") as f:
+                    f.write(body)
+                continue
+            if extra is not None:
+                skipped += 1
+                continue
+            t0 = time.monotonic()
+            r = subprocess.run(["bash", "-e", "-o", "pipefail", "-c", body], cwd=work,
+                               env=env, stdin=subprocess.DEVNULL, capture_output=True,
+                               text=True, timeout=600)
+            ran += 1
+            took = time.monotonic() - t0
+            if r.returncode != 0:
+                failed += 1
+                report.append(f"FAILED {name} (exit {r.returncode}, {took:.1f} s):\n{body}\n"
+                              f"--- stdout\n{r.stdout[-2000:]}\n--- stderr\n{r.stderr[-2000:]}")
+            else:
+                report.append(f"ok {name} ({took:.1f} s)")
+    finally:
+        shutil.rmtree(work, ignore_errors=True)
+    return report, ran, failed, skipped
+
+
+def check_examples(bin_dir, pages, jobs):
     bin_dir = os.path.abspath(bin_dir)
     for prog in ("edmd", "particles"):
         if not os.access(os.path.join(bin_dir, prog), os.X_OK):
             sys.exit(f"examples: no {prog} in {bin_dir}")
     env = dict(os.environ, PATH=bin_dir + os.pathsep + os.environ["PATH"])
     failed = ran = skipped = 0
-    for page in pages:
-        work = tempfile.mkdtemp(prefix="edmd-doc-")
-        os.symlink(os.path.join(ROOT, "examples"), os.path.join(work, "examples"))
-        try:
-            for line, kind, body, extra in blocks(page):
-                name = f"{os.path.relpath(page, ROOT)}:{line}"
-                if kind == "file":
-                    with open(os.path.join(work, extra), "w", encoding="utf-8") as f:
-                        f.write(body)
-                    continue
-                if extra is not None:
-                    skipped += 1
-                    continue
-                t0 = time.monotonic()
-                r = subprocess.run(["bash", "-e", "-o", "pipefail", "-c", body], cwd=work,
-                                   env=env, stdin=subprocess.DEVNULL, capture_output=True,
-                                   text=True, timeout=600)
-                ran += 1
-                took = time.monotonic() - t0
-                if r.returncode != 0:
-                    failed += 1
-                    print(f"FAILED {name} (exit {r.returncode}, {took:.1f} s):\n{body}\n"
-                          f"--- stdout\n{r.stdout[-2000:]}\n--- stderr\n{r.stderr[-2000:]}")
-                else:
-                    print(f"ok {name} ({took:.1f} s)")
-        finally:
-            shutil.rmtree(work, ignore_errors=True)
+    # Pages share nothing (each has its own scratch folder), so they run side by side; their
+    # reports are printed in page order.
+    with concurrent.futures.ThreadPoolExecutor(max_workers=jobs) as pool:
+        for report, r, f, s in pool.map(lambda page: run_page(page, env), pages):
+            for entry in report:
+                print(entry, flush=True)
+            ran, failed, skipped = ran + r, failed + f, skipped + s
     print(f"examples: {ran} blocks ran, {failed} failed, {skipped} not run (marked no-run)")
     return 1 if failed else 0
 
@@ -205,12 +219,16 @@ def main():
     sub.add_parser("links")
     ex = sub.add_parser("examples")
     ex.add_argument("--bin", required=True, help="folder holding edmd and particles")
+    ex.add_argument("--jobs", type=int, default=os.cpu_count() or 1,
+                    help="pages run at once (default: one per processor)")
     ex.add_argument("pages", nargs="*", help="pages (default: README.md and the guide)")
     a = p.parse_args()
     if a.what == "links":
         return check_links()
     pages = [os.path.abspath(x) for x in a.pages] or [os.path.join(ROOT, "README.md")] + guide_pages()
-    return check_examples(a.bin, pages)
+    if a.jobs < 1:
+        p.error("--jobs must be at least 1")
+    return check_examples(a.bin, pages, a.jobs)
 
 
 if __name__ == "__main__":
