@@ -1,8 +1,10 @@
 //! Lees-Edwards boundaries: pairs across the sliding boundary meet at their images' exact
 //! times, no pair is let through in sheared dense fluids (checked against every pair, not the
 //! grid's scan), shear at rate 0 is the plain periodic run, checkpoints continue bit for bit,
-//! the thermostat draws about the streaming profile, and the refusals.
+//! the thermostat draws about the streaming profile, temperature and speeds are measured
+//! relative to it, and the refusals.
 
+use edmd_core::measure::{kinetic_temperature, Speeds};
 use edmd_core::setup::lattice_fluid_in;
 use edmd_core::{
     Andersen, Boundary, Disc, Error, EventKind, Gravity, Options, Restitution, RestitutionLaw,
@@ -80,6 +82,47 @@ fn sheared_fluid<const D: usize>(n: usize, packing: f64, rate: f64, seed: u64) -
     }))
     .unwrap();
     sim
+}
+
+#[test]
+fn temperature_and_speeds_are_those_of_the_peculiar_velocities() {
+    // The lattice's velocities are drawn at kT 1 exactly; the profile added on top carries
+    // `<u^2> = gamma^2 L_y^2 / 12` per disc (unit masses), `<u^2> / D` of temperature in the
+    // lab's velocities (15.6 in 2D here, 2.1 in 3D), which is flow, not heat. The kinetic
+    // temperature and the speeds are taken relative to it, in 2D and 3D, at the start and
+    // along the run (where the shear has heated the fluid); the lab's temperature stays above
+    // by the flow's share, within a quarter of it (the cross term `2 <u c_x> / D` fluctuates
+    // by about 5% of it in 3D).
+    fn check<const D: usize>(mut sim: Simulation<D>) {
+        let n = sim.len() as f64;
+        let lab = |sim: &Simulation<D>| 2.0 * sim.kinetic_energy() / (D as f64 * n);
+        let (rate, ly) = (sim.shear().unwrap().rate, sim.sim_box().lengths[1]);
+        let flow = rate * rate * ly * ly / (12.0 * D as f64);
+        let kt = kinetic_temperature(&sim);
+        assert!((kt - 1.0).abs() < 1e-9, "{kt}");
+        assert!(
+            (lab(&sim) - kt - flow).abs() < 0.25 * flow,
+            "{} {kt} {flow}",
+            lab(&sim)
+        );
+        sim.run_until(3.0, &mut ());
+        let kt = kinetic_temperature(&sim);
+        let peculiar = 2.0 * sim.peculiar_kinetic_energy() / (D as f64 * n);
+        assert!((kt - peculiar).abs() < 1e-12 * peculiar, "{kt} {peculiar}");
+        assert!(kt > 1.2, "the shear heats: {kt}");
+        assert!(
+            (lab(&sim) - kt - flow).abs() < 0.25 * flow,
+            "{} {kt} {flow}",
+            lab(&sim)
+        );
+        let mut speeds = Speeds::new(40, 10.0);
+        speeds.sample(&sim);
+        for (i, &v) in speeds.speeds().iter().enumerate() {
+            assert_eq!(v, sim.peculiar_velocity(i).norm2().sqrt(), "disc {i}");
+        }
+    }
+    check(sheared_fluid::<2>(400, 0.3, 0.6, 11));
+    check(sheared_fluid::<3>(500, 0.3, 0.9, 12));
 }
 
 #[test]

@@ -311,13 +311,18 @@ impl<const D: usize> Model<D> {
 
 /// Speed histogram of the current velocities, `bins` bins up to four times the RMS speed, with
 /// the Maxwell-Boltzmann density (Rayleigh in 2D) at the current temperature; on a line,
-/// [`velocity_histogram`].
+/// [`velocity_histogram`]. Under shear and in a ring patch the speeds and the temperature are
+/// those of the peculiar velocities, relative to the streaming flow.
 pub fn speed_histogram<const D: usize>(sim: &Simulation<D>, bins: usize) -> Vec<SpeedBin> {
     let n = sim.len();
     if n == 0 {
         return Vec::new();
     }
-    let rms = ((0..n).map(|i| sim.velocity(i).norm2()).sum::<f64>() / n as f64).sqrt();
+    let rms = ((0..n)
+        .map(|i| sim.peculiar_velocity(i).norm2())
+        .sum::<f64>()
+        / n as f64)
+        .sqrt();
     if rms <= 0.0 || !rms.is_finite() {
         return Vec::new();
     }

@@ -119,11 +119,12 @@ impl Speeds {
         }
     }
 
-    /// Adds the speed of every disc now.
+    /// Adds the speed of every disc now: relative to the streaming flow under shear and in a
+    /// ring patch ([`Simulation::peculiar_velocity`]), whose speeds Maxwell's law describes.
     pub fn sample<const D: usize>(&mut self, sim: &Simulation<D>) {
         self.dim = D;
         for i in 0..sim.len() {
-            let v = sim.velocity(i).norm2().sqrt();
+            let v = sim.peculiar_velocity(i).norm2().sqrt();
             self.speeds.push(v);
             self.masses.push(sim.mass(i));
             self.histogram.add(v);

@@ -5,21 +5,25 @@
 //! Simulation of Liquids*, 2nd ed. (2017), chapter 2, the kinetic temperature). The centre-of-mass
 //! motion is not removed: systems set up with zero momentum (as
 //! [`crate::setup::lattice_fluid`] does) keep it, and the constraint then only shifts the
-//! estimate by a relative `1/N`.
+//! estimate by a relative `1/N`. Under Lees-Edwards shear and in a ring patch the velocities
+//! are the peculiar ones, relative to the streaming flow at each particle
+//! ([`Simulation::peculiar_velocity`]): the flow's kinetic energy is not heat.
 
 use crate::simulation::Simulation;
 
-/// `kT = sum m v^2 / (D N)` over the discs accepted by `keep` (`NaN` if none).
+/// `kT = sum m v^2 / (D N)` over the discs accepted by `keep` (`NaN` if none), `v` the peculiar
+/// velocity (the velocity itself without shear or ring).
 fn temperature_of<const D: usize>(sim: &Simulation<D>, keep: impl Fn(usize) -> bool) -> f64 {
     let (mut twice_ke, mut n) = (0.0, 0usize);
     for i in (0..sim.len()).filter(|&i| keep(i)) {
-        twice_ke += sim.mass(i) * sim.velocity(i).norm2();
+        twice_ke += sim.mass(i) * sim.peculiar_velocity(i).norm2();
         n += 1;
     }
     twice_ke / (D * n) as f64
 }
 
-/// The kinetic temperature of the whole system now, `kT = sum m v^2 / (D N)`.
+/// The kinetic temperature of the whole system now, `kT = sum m v^2 / (D N)` (peculiar
+/// velocities under shear and in a ring patch).
 pub fn kinetic_temperature<const D: usize>(sim: &Simulation<D>) -> f64 {
     temperature_of(sim, |_| true)
 }
