@@ -1,5 +1,6 @@
 //! Hand-derived cases with exact answers.
 
+use crate::support::obs;
 use edmd_core::{CollisionCounter, CollisionRule, Disc, Options, SimBox, Simulation, Vector};
 
 fn v(x: f64, y: f64) -> Vector {
@@ -13,12 +14,12 @@ fn disc_aimed_at_a_corner_hits_two_walls_at_once() {
     let d = [Disc::new(v(5.0, 5.0), v(1.0, 1.0), 1.0)];
     let mut sim = Simulation::new(&d, SimBox::walls([10.0, 10.0]), Options::default()).unwrap();
     let mut c = CollisionCounter::new(1);
-    sim.run_until(4.0, &mut c);
+    sim.run_until(4.0, &mut obs(&mut c));
     assert_eq!(c.wall[0], 2);
     assert_eq!(sim.velocity(0), v(-1.0, -1.0));
-    sim.run_until(8.0, &mut c);
+    sim.run_until(8.0, &mut obs(&mut c));
     assert_eq!(sim.position(0), v(5.0, 5.0));
-    sim.run_until(12.0, &mut c);
+    sim.run_until(12.0, &mut obs(&mut c));
     assert_eq!(c.wall[0], 4);
 }
 
@@ -40,7 +41,7 @@ fn head_on_equal_masses_exchange_velocities() {
         )
         .unwrap();
         let mut c = CollisionCounter::new(2);
-        sim.run_until(2.0, &mut c);
+        sim.run_until(2.0, &mut obs(&mut c));
         assert_eq!(c.disc, vec![1, 1]);
         assert_eq!(sim.position(0), v(3.0, 5.0));
         assert_eq!(sim.position(1), v(7.0, 5.0));
@@ -60,7 +61,7 @@ fn oblique_collision_at_rest_target_goes_off_at_right_angles() {
     ];
     let mut sim = Simulation::new(&d, SimBox::walls([20.0, 20.0]), Options::default()).unwrap();
     let mut c = CollisionCounter::new(2);
-    sim.run_until(3.0, &mut c);
+    sim.run_until(3.0, &mut obs(&mut c));
     assert_eq!(c.disc, vec![1, 1]);
     // Elastic, equal masses: the target takes the normal component along n = (sqrt3/2, -1/2):
     // v1' = (v.n) n = (sqrt3/2)(sqrt3/2, -1/2) = (3/4, -sqrt3/4); v0' = (1/4, sqrt3/4).
@@ -98,7 +99,7 @@ fn pair_colliding_across_the_periodic_boundary() {
     ];
     let mut sim = Simulation::new(&d, SimBox::periodic([10.0, 10.0]), Options::default()).unwrap();
     let mut c = CollisionCounter::new(2);
-    sim.run_until(0.1 + 1e-12, &mut c);
+    sim.run_until(0.1 + 1e-12, &mut obs(&mut c));
     assert_eq!(c.disc, vec![1, 1]);
     assert_eq!(sim.velocity(0), v(1.0, 0.0));
 }
@@ -136,6 +137,7 @@ fn newtons_cradle_passes_the_momentum_down_the_line() {
 }
 
 mod barriers {
+    use crate::support::obs;
     use edmd_core::setup::lattice_fluid;
     use edmd_core::{
         Barrier, BarrierHit, Boundary, Demon, Disc, EventKind, EventRecord, Observer, Options,
@@ -304,7 +306,7 @@ mod barriers {
             shut: 0,
         };
         let e0 = sim.kinetic_energy();
-        sim.run_until(1500.0, &mut watch);
+        sim.run_until(1500.0, &mut obs(&mut watch));
         assert!(
             watch.passed[0] > 5 && watch.passed[1] > 5 && watch.shut > 5,
             "{:?} {}",

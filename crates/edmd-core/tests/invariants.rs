@@ -1,5 +1,6 @@
 //! Conservation laws and invariants on random systems with fixed seeds.
 
+use crate::support::obs;
 use edmd_core::setup::lattice_fluid;
 use edmd_core::{
     Barrier, Boundary, Demon, Disc, EventKind, EventRecord, MultiContact, Observer, Options,
@@ -77,7 +78,7 @@ fn check_state(sim: &Simulation) {
 fn run_checked(sim: &mut Simulation, t_end: f64, steps: usize) -> Watchdog {
     let mut dog = Watchdog::default();
     for k in 1..=steps {
-        sim.run_until(t_end * k as f64 / steps as f64, &mut dog);
+        sim.run_until(t_end * k as f64 / steps as f64, &mut obs(&mut dog));
         check_state(sim);
     }
     dog
@@ -225,7 +226,7 @@ fn both_event_loops_give_the_same_trajectory() {
         assert!(!portable.set_portable_loop(true));
         assert_eq!(fast.set_portable_loop(false), v3);
         let mut clusters = Clusters(0);
-        fast.run_until(20.0, &mut clusters);
+        fast.run_until(20.0, &mut obs(&mut clusters));
         portable.run_until(20.0, &mut ());
         assert!(fast.stats().disc_disc > 1000, "{:?}", fast.stats());
         if options.multi.is_some() {

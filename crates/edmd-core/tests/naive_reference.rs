@@ -4,6 +4,7 @@
 //! the ratio of free path to diameter per collision, so the comparison covers the stretch
 //! before that growth reaches the tolerance.
 
+use crate::support::obs;
 use edmd_core::{EventKind, EventRecord, Observer, Options, SimBox, Simulation};
 
 use crate::support::{naive, random_discs};
@@ -30,7 +31,7 @@ fn same_events_as_the_brute_force_simulator() {
         let mut log = Log::default();
         let mut reference = discs.clone();
         let expected = naive::run(&mut reference, l, 5.0);
-        sim.run_until(5.0, &mut log);
+        sim.run_until(5.0, &mut obs(&mut log));
         assert!(
             expected.len() > 80,
             "seed {seed}: too few events ({}) to compare",

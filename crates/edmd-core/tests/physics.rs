@@ -4,6 +4,7 @@
 //! Units: disc diameter `sigma = 1`, mass `m = 1`, `k_B = 1`, `kT = 1` (as
 //! [`lattice_fluid`] sets up).
 
+use crate::support::obs;
 use edmd_core::measure::{
     kinetic_temperature, rayleigh_cdf, Collisions, Diffusion, Pressure, SpeciesHalves, Speeds,
     Temperature,
@@ -116,7 +117,7 @@ fn dilute_collision_frequency_agrees_with_enskog_theory() {
     let mut sim = melted(n, eta, Boundary::Periodic, 5, 10);
     let mut c = Collisions::new(&sim, 50, 50.0, 50.0);
     for _ in 0..20 {
-        sim.run_until(sim.time() + 25.0, &mut c);
+        sim.run_until(sim.time() + 25.0, &mut obs(&mut c));
         c.sample(&sim);
     }
     let s = c.summary();
@@ -156,7 +157,7 @@ fn measured_z(eta: f64, seed: u64) -> edmd_core::measure::Estimate {
     // Blocks of about 10 collisions per disc.
     let block = 10.0 / (2.0 * 4.0 * eta / PI * PI.sqrt() * henderson_contact(eta));
     for _ in 0..20 {
-        sim.run_until(sim.time() + block, &mut p);
+        sim.run_until(sim.time() + block, &mut obs(&mut p));
         p.sample(&sim);
     }
     p.summary().z
@@ -197,7 +198,7 @@ fn wall_pressure_equals_virial_pressure_in_a_walled_box() {
     let mut sim = melted(n, 0.3, Boundary::Walls, 31, 20);
     let mut p = Pressure::new(&sim);
     for _ in 0..40 {
-        sim.run_until(sim.time() + 25.0, &mut p);
+        sim.run_until(sim.time() + 25.0, &mut obs(&mut p));
         p.sample(&sim);
     }
     let s = p.summary();
@@ -288,7 +289,10 @@ fn energy_is_conserved_with_every_measurement_attached() {
     let mut msd = Diffusion::new(&sim);
     let mut halves = SpeciesHalves::new(&sim, 0);
     for k in 1..=20 {
-        sim.run_until(2.0 * k as f64, &mut (&mut pressure, &mut collisions));
+        sim.run_until(
+            2.0 * k as f64,
+            &mut obs(&mut (&mut pressure, &mut collisions)),
+        );
         pressure.sample(&sim);
         collisions.sample(&sim);
         temperature.sample(&sim);

@@ -2,6 +2,7 @@
 //! conserved), the line-of-centres law in equilibrium, exact checkpoints, and the refusal of
 //! rules that cannot be.
 
+use crate::support::obs;
 use edmd_core::measure::theory::line_of_centres_fraction;
 use edmd_core::setup::lattice_fluid_in;
 use edmd_core::{
@@ -72,7 +73,7 @@ fn heat_goes_into_the_normal_relative_motion() {
     r.heat = 0.5;
     sim.set_reactions(Some(Reactions::new(vec![r]))).unwrap();
     let mut log = Log::default();
-    sim.run_until(1.0, &mut log);
+    sim.run_until(1.0, &mut obs(&mut log));
     assert!(matches!(
         log.0[..],
         [EventRecord {
@@ -103,8 +104,8 @@ fn below_the_activation_energy_or_unable_to_pay_the_heat_a_collision_is_elastic(
         let mut sim = head_on(2.0, (0, 1));
         sim.set_reactions(Some(Reactions::new(vec![r]))).unwrap();
         let (mut a, mut b) = (Log::default(), Log::default());
-        plain.run_until(1.0, &mut a);
-        sim.run_until(1.0, &mut b);
+        plain.run_until(1.0, &mut obs(&mut a));
+        sim.run_until(1.0, &mut obs(&mut b));
         assert_eq!(a.0, b.0);
         assert_eq!((sim.species(0), sim.species(1)), (0, 1));
         assert_eq!(sim.reaction_counts(), &[0]);
@@ -154,7 +155,7 @@ fn trace<const D: usize>(sim: &mut Simulation<D>, t: f64) -> Vec<(f64, u64)> {
         }
     }
     let mut log = T(Vec::new());
-    sim.run_until(t, &mut log);
+    sim.run_until(t, &mut obs(&mut log));
     log.0.retain(|x| x.1 != u64::MAX);
     log.0
 }
@@ -272,7 +273,7 @@ fn measure<const D: usize>(sim: &mut Simulation<D>, activation: f64) -> f64 {
     sim.run_events(200_000, &mut ());
     o.species = (0..sim.len()).map(|i| sim.species(i)).collect();
     while o.collisions < 40_000 {
-        sim.run_events(10_000, &mut o);
+        sim.run_events(10_000, &mut obs(&mut o));
     }
     o.reactions as f64 / o.collisions as f64
 }
@@ -350,7 +351,7 @@ fn like_reactants_become_either_product_with_equal_chance() {
         }
     }
     let mut h = Held(0, 0);
-    sim.run_until(50.0, &mut h);
+    sim.run_until(50.0, &mut obs(&mut h));
     // Nearly every A has reacted (an A left alone among the products waits for another).
     assert!(h.1 > 950, "{}", h.1);
     let share = h.0 as f64 / h.1 as f64;

@@ -18,10 +18,10 @@ fn line(n: usize, eta: f64, boundary: Boundary, seed: u64) -> Simulation<1> {
 }
 
 /// Runs until `count` more rod-rod collisions have happened.
-fn run_collisions(sim: &mut Simulation<1>, count: u64, obs: &mut impl Observer<1>) {
+fn run_collisions(sim: &mut Simulation<1>, count: u64, obs: &mut dyn Observer<1>) {
     let target = sim.stats().disc_disc + count;
     while sim.stats().disc_disc < target {
-        sim.run_events(1000, obs);
+        sim.run_events(1000, &mut &mut *obs);
     }
 }
 

@@ -4,6 +4,7 @@
 //! the thermostat draws about the streaming profile, temperature and speeds are measured
 //! relative to it, and the refusals.
 
+use crate::support::obs;
 use edmd_core::measure::{kinetic_temperature, Speeds};
 use edmd_core::setup::lattice_fluid_in;
 use edmd_core::{
@@ -474,7 +475,7 @@ fn same_collisions_as_the_brute_force_simulator_under_shear() {
         let mut reference = discs.clone();
         let expected = naive_sheared(&mut reference, [l, l], rate, 10.0);
         let mut log = Pairs::default();
-        sim.run_until(10.0, &mut log);
+        sim.run_until(10.0, &mut obs(&mut log));
         compare(seed, &log.0, &expected);
     }
     let l = 7.0;
@@ -484,7 +485,7 @@ fn same_collisions_as_the_brute_force_simulator_under_shear() {
     let mut reference = discs.clone();
     let expected = naive_sheared(&mut reference, [l; 3], 0.7, 10.0);
     let mut log = Pairs::default();
-    sim.run_until(10.0, &mut log);
+    sim.run_until(10.0, &mut obs(&mut log));
     compare(7, &log.0, &expected);
 }
 
@@ -531,7 +532,7 @@ fn steady_shear_gives_enskogs_viscosity_at_moderate_density() {
     sim.run_until(30.0, &mut ());
     let mut m = ShearStress::new(&sim).unwrap();
     for k in 1..=20 {
-        sim.run_until(30.0 + 15.0 * k as f64, &mut m);
+        sim.run_until(30.0 + 15.0 * k as f64, &mut obs(&mut m));
         m.sample(&sim);
     }
     let s = m.summary(1.0, 1.0).unwrap();
@@ -582,7 +583,7 @@ fn the_exact_stress_integrals_are_the_time_average_of_the_stress() {
         let n = 20000;
         let mut sampled = 0.0;
         for k in 1..=n {
-            sim.run_until(t0 + 1e-4 * k as f64, &mut m);
+            sim.run_until(t0 + 1e-4 * k as f64, &mut obs(&mut m));
             let s: f64 = (0..sim.len())
                 .map(|i| {
                     let c = sim.peculiar_velocity(i);

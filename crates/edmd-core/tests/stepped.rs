@@ -2,6 +2,7 @@
 //! momentum conservation in fluids, shells that always match the distances, exact checkpoints
 //! and the refusal of potentials that cannot be.
 
+use crate::support::obs;
 use edmd_core::setup::lattice_fluid_in;
 use edmd_core::{
     Boundary, Disc, Error, EventKind, EventRecord, Observer, Options, PairSteps, Potential, SimBox,
@@ -50,7 +51,7 @@ fn a_pair_falls_into_a_well_bounces_off_the_core_and_climbs_out() {
     let mut sim = pair(3.0, 1.0, &well);
     assert_eq!(sim.potential_energy(), 0.0);
     let mut log = Log::default();
-    sim.run_until(10.0, &mut log);
+    sim.run_until(10.0, &mut obs(&mut log));
     let kinds: Vec<_> = log.0.iter().map(|e| e.kind).collect();
     assert!(
         matches!(
@@ -101,7 +102,7 @@ fn a_pair_without_the_energy_to_leave_stays_in_the_well() {
     assert_eq!(sim.potential_energy(), -1.0);
     let e0 = energy(&sim);
     let mut log = Log::default();
-    sim.run_until(100.0, &mut log);
+    sim.run_until(100.0, &mut obs(&mut log));
     assert!(log.0.len() > 50, "{} events", log.0.len());
     for e in &log.0 {
         match e.kind {
@@ -121,7 +122,7 @@ fn a_shoulder_too_high_to_climb_is_a_larger_hard_core() {
     let shoulder = Potential::single(0, 0, 1.5, 10.0);
     let mut sim = pair(3.0, 1.0, &shoulder);
     let mut log = Log::default();
-    sim.run_until(3.0, &mut log);
+    sim.run_until(3.0, &mut obs(&mut log));
     let discs = [
         Disc::new(Vector::new([5.0, 10.0]), Vector::new([1.0, 0.0]), 0.75),
         Disc::new(Vector::new([8.0, 10.0]), Vector::new([0.0, 0.0]), 0.75),
@@ -129,7 +130,7 @@ fn a_shoulder_too_high_to_climb_is_a_larger_hard_core() {
     let mut hard =
         Simulation::new(&discs, SimBox::periodic([20.0, 20.0]), Options::default()).unwrap();
     let mut hard_log = Log::default();
-    hard.run_until(3.0, &mut hard_log);
+    hard.run_until(3.0, &mut obs(&mut hard_log));
     assert_eq!(log.0.len(), 1);
     assert!(matches!(
         log.0[0].kind,
@@ -153,7 +154,7 @@ fn a_low_shoulder_is_climbed_at_a_lower_speed() {
     let mut sim = pair(3.0, 1.0, &shoulder);
     let e0 = energy(&sim);
     let mut log = Log::default();
-    sim.run_until(1.5 + 0.5 / 0.6f64.sqrt() + 1e-9, &mut log);
+    sim.run_until(1.5 + 0.5 / 0.6f64.sqrt() + 1e-9, &mut obs(&mut log));
     assert!(matches!(
         log.0[0].kind,
         EventKind::Step {
@@ -251,8 +252,8 @@ fn a_stepped_run_continues_from_its_checkpoint_bit_for_bit() {
             assert_eq!(resumed.potential(), Some(&potential));
             let mut a = Log::default();
             let mut b = Log::default();
-            sim.run_events(30_000, &mut a);
-            resumed.run_events(30_000, &mut b);
+            sim.run_events(30_000, &mut obs(&mut a));
+            resumed.run_events(30_000, &mut obs(&mut b));
             assert!(a.0 == b.0, "the events differ");
             assert_eq!(sim.shells(), resumed.shells());
             assert_eq!(sim.stats(), resumed.stats());
@@ -283,11 +284,11 @@ fn version_4_stepped_checkpoints_continue_with_their_shells() {
         let (mut again, _) = Simulation::<D>::from_checkpoint(&bytes).unwrap();
         assert!(again.to_checkpoint(b"") == bytes);
         let mut run_again = Log::default();
-        again.run_events(5_000, &mut run_again);
+        again.run_events(5_000, &mut obs(&mut run_again));
         let e0 = energy(&sim);
         for k in 0..10 {
             let mut log = Log::default();
-            sim.run_events(5_000, &mut log);
+            sim.run_events(5_000, &mut obs(&mut log));
             if k == 0 {
                 assert!(log.0 == run_again.0, "the events differ");
             }

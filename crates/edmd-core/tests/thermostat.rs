@@ -1,6 +1,7 @@
 //! The Andersen thermostat: the bath's temperature is reached, redraws come at the rate asked
 //! for, and a run with a thermostat is the same however it is sliced or checkpointed.
 
+use crate::support::obs;
 use edmd_core::setup::lattice_fluid_in;
 use edmd_core::{
     Andersen, Boundary, EventKind, EventRecord, Observer, Options, Potential, Simulation,
@@ -75,15 +76,15 @@ fn a_thermostatted_run_is_the_same_sliced_or_continued_from_a_checkpoint() {
         let mut whole = fluid::<D>(200, &potential, 1.5);
         let mut sliced = whole.clone();
         let mut a = Log::default();
-        whole.run_until(8.0, &mut a);
+        whole.run_until(8.0, &mut obs(&mut a));
         let mut b = Log::default();
         for k in 1..=8 {
-            sliced.run_until(0.5 * k as f64, &mut b);
+            sliced.run_until(0.5 * k as f64, &mut obs(&mut b));
         }
         let bytes = sliced.to_checkpoint(&[]);
         let (mut resumed, _) = Simulation::<D>::from_checkpoint(&bytes).unwrap();
         assert_eq!(resumed.thermostat(), whole.thermostat());
-        resumed.run_until(8.0, &mut b);
+        resumed.run_until(8.0, &mut obs(&mut b));
         assert!(a.0 == b.0, "the events differ");
         assert!(a
             .0

@@ -2,6 +2,7 @@
 //! conservation laws, the 3D generators, and the physics of the hard-sphere fluid (equation of
 //! state, collision rate, Maxwell-Boltzmann speeds, self-diffusion) against published values.
 
+use crate::support::obs;
 use edmd_core::measure::theory::{collision_rate_from_z, pieprzyk_z};
 use edmd_core::measure::{kinetic_temperature, Collisions, Diffusion, Pressure, Speeds};
 use edmd_core::setup::fluid::FLUID_MAX_PACKING_3D;
@@ -35,10 +36,10 @@ fn melted_fluid(n: usize, packing: f64, melt: u64, seed: u64) -> Simulation<3> {
 }
 
 /// Runs until `count` more sphere-sphere collisions have happened.
-fn run_collisions(sim: &mut Simulation<3>, count: u64, obs: &mut impl Observer<3>) {
+fn run_collisions(sim: &mut Simulation<3>, count: u64, obs: &mut dyn Observer<3>) {
     let target = sim.stats().disc_disc + count;
     while sim.stats().disc_disc < target {
-        sim.run_events(1000, obs);
+        sim.run_events(1000, &mut &mut *obs);
     }
 }
 
@@ -54,7 +55,7 @@ fn same_events_as_the_brute_force_simulator_in_3d() {
         let mut log = Log::default();
         let mut reference = discs.clone();
         let expected = naive::run(&mut reference, l, 5.0);
-        sim.run_until(5.0, &mut log);
+        sim.run_until(5.0, &mut obs(&mut log));
         let pairs = expected.iter().filter(|e| e.2.is_some()).count();
         assert!(
             expected.len() > 80 && pairs > 20,

@@ -271,6 +271,7 @@ impl<const D: usize> Observer<D> for Collisions {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::observer::obs;
     use crate::{Disc, Options, SimBox, Vector};
 
     #[test]
@@ -281,7 +282,7 @@ mod tests {
         let mut sim =
             Simulation::new(&[d], SimBox::walls([10.0, 10.0]), Options::default()).unwrap();
         let mut c = Collisions::new(&sim, 10, 10.0, 5.0);
-        sim.run_until(15.0, &mut c);
+        sim.run_until(15.0, &mut obs(&mut c));
         c.sample(&sim);
         let s = c.summary();
         assert_eq!((s.disc_disc, s.wall, s.barrier, s.flights), (0, 4, 0, 3));
@@ -305,9 +306,9 @@ mod tests {
             Simulation::new(&discs, SimBox::walls([20.0, 10.0]), Options::default()).unwrap();
         let mut c = Collisions::new(&sim, 4, 16.0, 16.0);
         // Blocks [0, 10] and [10, 22]: pair collisions at 4 and 20, walls at 12 (two).
-        sim.run_until(10.0, &mut c);
+        sim.run_until(10.0, &mut obs(&mut c));
         c.sample(&sim);
-        sim.run_until(22.0, &mut c);
+        sim.run_until(22.0, &mut obs(&mut c));
         c.sample(&sim);
         let s = c.summary();
         assert_eq!((s.disc_disc, s.wall, s.flights), (2, 2, 4));

@@ -426,6 +426,7 @@ mod tests {
     use crate::measure::theory::{
         contact_value, enskog_conductivity_ratio_chapman_cowling, CONDUCTIVITY_SONINE_SPHERES,
     };
+    use crate::observer::obs;
     use crate::setup::lattice_fluid_in;
     use crate::{Boundary, Disc, Options, SimBox, Vector};
 
@@ -473,7 +474,7 @@ mod tests {
         let g0 = moment(&sim);
         // One window of length 4 over [0, 4]; the collision is at t = 1.0 or so.
         let mut c = Conductivity::new(&sim, 4.0, 1, 1);
-        sim.run_until(4.5, &mut c);
+        sim.run_until(4.5, &mut obs(&mut c));
         c.sample(&sim);
         assert_eq!(sim.stats().disc_disc, 1);
         // G at t = 4 from the state at 4.5: the last half time unit was free flight.
@@ -514,7 +515,7 @@ mod tests {
         let mut sim =
             Simulation::new(&discs, SimBox::periodic([40.0, 40.0]), Options::default()).unwrap();
         let mut c = Conductivity::new(&sim, 0.5, 4, 2);
-        sim.run_until(9.0, &mut c);
+        sim.run_until(9.0, &mut obs(&mut c));
         c.sample(&sim);
         assert!(!c.blocks().is_empty());
         for (_, _, msq) in c.curve() {
@@ -532,7 +533,10 @@ mod tests {
         sim.run_until(50.0 * POINTS_PER_COLLISION * spacing, &mut ());
         let mut c = Conductivity::for_fluid(&sim);
         let block = spacing * (lags * BLOCK_WINDOWS) as f64;
-        sim.run_until(sim.time() + blocks as f64 * block + 0.5 * spacing, &mut c);
+        sim.run_until(
+            sim.time() + blocks as f64 * block + 0.5 * spacing,
+            &mut obs(&mut c),
+        );
         c.sample(&sim);
         assert_eq!(c.blocks().len(), blocks);
         c.summary()

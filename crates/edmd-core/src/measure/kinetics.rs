@@ -180,6 +180,7 @@ impl<const D: usize> Observer<D> for Kinetics {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::observer::obs;
     use crate::setup::lattice_fluid;
     use crate::{Boundary, Options, Reaction, Reactions};
 
@@ -200,7 +201,7 @@ mod tests {
         .unwrap();
         let mut kin = Kinetics::new(&sim);
         for k in 1..=5 {
-            sim.run_until(k as f64, &mut kin);
+            sim.run_until(k as f64, &mut obs(&mut kin));
             kin.sample(&sim);
         }
         let n2 = (0..sim.len()).filter(|&i| sim.species(i) == 2).count();

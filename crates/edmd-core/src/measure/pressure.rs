@@ -230,6 +230,7 @@ impl<const D: usize> Observer<D> for Pressure {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::observer::obs;
     use crate::{Disc, Options, SimBox, Vector};
 
     #[test]
@@ -243,7 +244,7 @@ mod tests {
         let mut sim =
             Simulation::new(&[d], SimBox::walls([10.0, 4.0]), Options::default()).unwrap();
         let mut p = Pressure::new(&sim);
-        sim.run_until(16.0, &mut p);
+        sim.run_until(16.0, &mut obs(&mut p));
         p.sample(&sim);
         let s = p.summary();
         assert_eq!(sim.stats().wall, 6);
@@ -268,7 +269,7 @@ mod tests {
             Simulation::new(&[d], SimBox::walls([10.0, 10.0]), Options::default()).unwrap();
         let mut p = Pressure::new(&sim);
         for k in 1..=4 {
-            sim.run_until(4.0 * k as f64, &mut p);
+            sim.run_until(4.0 * k as f64, &mut obs(&mut p));
             p.sample(&sim);
         }
         let s = p.summary();
@@ -291,7 +292,7 @@ mod tests {
         let mut sim =
             Simulation::new(&discs, SimBox::periodic([10.0, 10.0]), Options::default()).unwrap();
         let mut p = Pressure::new(&sim);
-        sim.run_until(2.0, &mut p);
+        sim.run_until(2.0, &mut obs(&mut p));
         p.sample(&sim);
         p.sample(&sim); // no time passed: no block
         let s = p.summary();

@@ -234,6 +234,7 @@ impl<const D: usize> Observer<D> for ShearStress {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::observer::obs;
     use crate::state::{Disc, SimBox};
     use crate::{Options, Shear};
 
@@ -250,7 +251,7 @@ mod tests {
         sim.set_shear(Some(Shear::new(0.2))).unwrap();
         let mut m = ShearStress::new(&sim).unwrap();
         for t in [7.0, 18.5, 40.0] {
-            sim.run_until(t, &mut m);
+            sim.run_until(t, &mut obs(&mut m));
             m.sample(&sim);
         }
         let kinetic = |t: f64| 0.3 * t - 0.1 * t * t;

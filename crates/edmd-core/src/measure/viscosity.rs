@@ -743,6 +743,7 @@ impl<const D: usize> Observer<D> for Viscosity {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::observer::obs;
     use crate::setup::lattice_fluid_in;
     use crate::{Boundary, Disc, Options, SimBox, Vector};
 
@@ -812,7 +813,7 @@ mod tests {
         )
         .unwrap();
         let mut v = Viscosity::new(&sim, 0.25, 4, 2);
-        sim.run_until(9.0, &mut v);
+        sim.run_until(9.0, &mut obs(&mut v));
         v.sample(&sim);
         // 36 grid steps: blocks of 8 steps close at 8, 16, 24, 32.
         assert_eq!(v.blocks().len(), 4);
@@ -849,7 +850,7 @@ mod tests {
         let mut sim =
             Simulation::new(&discs, SimBox::periodic([40.0, 40.0]), Options::default()).unwrap();
         let mut v = Viscosity::new(&sim, 2.0, 1, 1);
-        sim.run_until(2.5, &mut v);
+        sim.run_until(2.5, &mut obs(&mut v));
         v.sample(&sim);
         assert_eq!(sim.stats().disc_disc, 1);
         let (tau, _, msq) = v.curve()[0];
@@ -867,7 +868,7 @@ mod tests {
         sim.run_until(50.0 * POINTS_PER_COLLISION * spacing, &mut ());
         let mut v = Viscosity::for_fluid(&sim);
         let block = spacing * (lags * BLOCK_WINDOWS) as f64;
-        sim.run_until(sim.time() + blocks as f64 * block, &mut v);
+        sim.run_until(sim.time() + blocks as f64 * block, &mut obs(&mut v));
         v.sample(&sim);
         assert_eq!(v.blocks().len(), blocks);
         v.summary()

@@ -2,7 +2,7 @@
 
 pub mod naive;
 
-use edmd_core::{Disc, Vector};
+use edmd_core::{Disc, Observer, Vector};
 use rand::{Rng, SeedableRng};
 use rand_pcg::Pcg64Mcg;
 
@@ -74,4 +74,12 @@ pub fn reframed(mut bytes: Vec<u8>) -> Vec<u8> {
     let crc = crc32fast::hash(&bytes);
     bytes.extend_from_slice(&crc.to_le_bytes());
     bytes
+}
+
+/// The observer as a trait object: the engine's loop is compiled once for each type of
+/// observer it runs with, and this binary's tests, passing theirs through here, share one
+/// copy per dimension. With a copy for each of the tests' 25 observers the binary took 895 s
+/// to build on two cores (963 s of CPU); with them shared, 163 s (205 s).
+pub fn obs<const D: usize>(o: &mut impl Observer<D>) -> &mut dyn Observer<D> {
+    o
 }
