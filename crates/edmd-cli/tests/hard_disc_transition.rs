@@ -1,6 +1,6 @@
 //! `edmd experiment hard-disc-transition`: the files and JSON fields of a tiny chain, a resumed
-//! chain equal to the bit to one uninterrupted run, bad options, and the pressure of a liquid
-//! against Henderson's equation of state.
+//! chain equal to the bit to one uninterrupted run, a report of the checkpoints that runs
+//! nothing, bad options, and the pressure of a liquid against Henderson's equation of state.
 
 use serde_json::Value;
 
@@ -10,6 +10,27 @@ fn num(r: &Value, key: &str) -> f64 {
     r[key]
         .as_f64()
         .unwrap_or_else(|| panic!("{key} missing in {r}"))
+}
+
+/// A row's measured values: those a resumed run must give to the bit.
+const MEASURED: [&str; 6] = [
+    "pressure",
+    "pressure_error",
+    "Z",
+    "psi6",
+    "collisions_per_disc",
+    "production_per_disc",
+];
+
+/// Asserts that rows `a` and `b` hold the same `keys`, to the bit.
+fn same_bits(a: &Value, b: &Value, keys: &[&str]) {
+    for key in keys {
+        assert_eq!(
+            num(a, key).to_bits(),
+            num(b, key).to_bits(),
+            "{key}: {a} against {b}"
+        );
+    }
 }
 
 fn experiment(dir: &std::path::Path, extra: &[&str]) -> Value {
@@ -72,6 +93,8 @@ fn hard_disc_a_tiny_chain_writes_its_rows_files_and_checkpoints() {
         assert_eq!(num(r, "production_per_disc"), 20.0);
         let psi6 = num(r, "psi6");
         assert!((0.0..=1.0).contains(&psi6), "{r}");
+        // Four blocks: two against two.
+        assert!(num(r, "drift_sigmas").is_finite(), "{r}");
     }
     // The lower point started from the upper one's equilibrated state: it carries its 20
     // collisions per disc as well as its own 40.
@@ -155,20 +178,7 @@ fn hard_disc_resume_adds_up_to_one_uninterrupted_run_bit_for_bit() {
         // The collisions per disc add up: those of the first run and the resumed one's.
         let added = num(b, "collisions_per_disc") - num(a, "collisions_per_disc");
         assert_eq!(added, 10.0, "{a} {b}");
-        for key in [
-            "pressure",
-            "pressure_error",
-            "Z",
-            "psi6",
-            "collisions_per_disc",
-            "production_per_disc",
-        ] {
-            assert_eq!(
-                num(b, key).to_bits(),
-                num(c, key).to_bits(),
-                "{key}: {b} against {c}"
-            );
-        }
+        same_bits(b, c, &MEASURED);
         assert!(num(b, "cpu_seconds") >= num(a, "cpu_seconds"));
     }
     // Dropping the blocks: --equilibrate with --resume starts measuring anew.
@@ -191,6 +201,63 @@ fn hard_disc_resume_adds_up_to_one_uninterrupted_run_bit_for_bit() {
     for r in redone["rows"].as_array().unwrap() {
         assert_eq!(num(r, "blocks"), 2.0, "{r}");
         assert_eq!(num(r, "production_per_disc"), 10.0, "{r}");
+    }
+}
+
+#[test]
+fn hard_disc_collisions_0_reports_the_checkpoints_as_they_are() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path().to_str().unwrap();
+    let base = ["--n-side", "8", "--packings", "0.70,0.72"];
+    let first = experiment(
+        dir.path(),
+        &[
+            &base[..],
+            &["--equilibrate", "5", "--collisions", "10", "--blocks", "2"],
+        ]
+        .concat(),
+    );
+    let checkpoints = ["hard-disc-0.7000.checkpoint", "hard-disc-0.7200.checkpoint"];
+    let bytes = |name: &str| std::fs::read(dir.path().join(name)).unwrap();
+    let before: Vec<Vec<u8>> = checkpoints.iter().map(|c| bytes(c)).collect();
+    let report = experiment(
+        dir.path(),
+        &[&base[..], &["--resume", "--collisions", "0"]].concat(),
+    );
+    assert_eq!(report["collisions"], 0, "{report}");
+    for k in 0..2 {
+        let (a, b) = (&first["rows"][k], &report["rows"][k]);
+        same_bits(a, b, &MEASURED);
+        same_bits(a, b, &["blocks", "cpu_seconds"]);
+    }
+    // Nothing ran, so the checkpoints are as they were.
+    for (c, b) in checkpoints.iter().zip(&before) {
+        assert!(bytes(c) == *b, "{c} was written again");
+    }
+    // Refused: a point without a checkpoint, and dropping the blocks with nothing to measure.
+    for (extra, words) in [
+        (
+            vec!["--packings", "0.70,0.71"],
+            vec!["hard-disc-0.7100.checkpoint"],
+        ),
+        (
+            vec!["--packings", "0.70", "--equilibrate", "5"],
+            vec!["--equilibrate 5", "--collisions 0"],
+        ),
+    ] {
+        let mut args = vec![
+            "experiment",
+            "hard-disc-transition",
+            "--n-side",
+            "8",
+            "--resume",
+            "--collisions",
+            "0",
+            "--out-dir",
+            d,
+        ];
+        args.extend(extra);
+        refused(&run("edmd", &args, None), &words);
     }
 }
 

@@ -69,7 +69,8 @@ pub struct HardDiscArgs {
     /// and a number above 0 drops the blocks measured so far].
     #[arg(long, allow_negative_numbers = true)]
     pub equilibrate: Option<u64>,
-    /// Disc-disc collisions per disc to measure over (added to those so far with --resume).
+    /// Disc-disc collisions per disc to measure over (added to those so far with --resume;
+    /// 0 with --resume reports the checkpoints as they are, running nothing).
     #[arg(long, default_value_t = 1000, allow_negative_numbers = true)]
     pub collisions: u64,
     /// Blocks for the error bar, of equal collision counts, in this run's --collisions.
@@ -254,6 +255,10 @@ pub struct Row {
     pub reference_mpmc_1024: Option<f64>,
     /// (pressure - reference_edmd) over the two errors combined.
     pub deviation_sigmas: Option<f64>,
+    /// The drift over the measurement: the pressure of the later half of the blocks less that
+    /// of the earlier half, over their errors combined (null with fewer than 4 blocks). Well
+    /// beyond 2 in size, the point was still relaxing as it was measured.
+    pub drift_sigmas: Option<f64>,
     /// Disc-disc collisions per disc the state has seen in all: the chain's, equilibration and
     /// production, over every run so far.
     pub collisions_per_disc: f64,
@@ -450,6 +455,18 @@ fn z_estimate(blocks: &[[u64; 2]]) -> (f64, f64) {
     (weighted / elapsed, block_error(&zs))
 }
 
+/// The later half of the blocks' value less the earlier half's, over their block errors
+/// combined (the middle block of an odd count in neither); `None` below 4 blocks.
+fn drift_sigmas(blocks: &[[u64; 2]]) -> Option<f64> {
+    let h = blocks.len() / 2;
+    if h < 2 {
+        return None;
+    }
+    let (early, e1) = z_estimate(&blocks[..h]);
+    let (late, e2) = z_estimate(&blocks[blocks.len() - h..]);
+    Some((late - early) / e1.hypot(e2))
+}
+
 fn check(args: &HardDiscArgs) -> Result<Vec<f64>> {
     let name = "hard-disc-transition";
     if !(args.n_side >= 4 && args.n_side.is_multiple_of(2) && args.n_side * args.n_side <= MAX_N) {
@@ -486,13 +503,24 @@ fn check(args: &HardDiscArgs) -> Result<Vec<f64>> {
             w[1], w[0]
         ));
     }
-    check_count(name, "collisions", args.collisions, 1, 10_000_000)?;
+    check_count(
+        name,
+        "collisions",
+        args.collisions,
+        u64::from(!args.resume),
+        10_000_000,
+    )?;
     check_count(name, "blocks", args.blocks, 2, 100_000)?;
     if let Some(e) = args.equilibrate {
         check_count(name, "equilibrate", e, 0, 10_000_000)?;
+        if args.collisions == 0 && e > 0 {
+            return edmd::user_error(format!(
+                "{name}: --equilibrate {e} drops the blocks measured so far, and --collisions 0 measures none"
+            ));
+        }
     }
     let n = (args.n_side * args.n_side) as u64;
-    if args.collisions * n < args.blocks {
+    if args.collisions > 0 && args.collisions * n < args.blocks {
         return edmd::user_error(format!(
             "{name}: --blocks {} is more than the {} collisions measured",
             args.blocks,
@@ -516,6 +544,20 @@ pub fn run(args: &HardDiscArgs) -> Result<()> {
         {
             return edmd::user_error(format!(
                 "hard-disc-transition: {} exists: continue it with --resume, or choose another --out-dir",
+                p.display()
+            ));
+        }
+    }
+    // `--resume --collisions 0`: a report of the checkpoints, which must all be there.
+    let report_only = args.collisions == 0;
+    if report_only {
+        if let Some(p) = packings
+            .iter()
+            .map(|&p| checkpoint_path(dir, p))
+            .find(|p| !p.exists())
+        {
+            return edmd::user_error(format!(
+                "hard-disc-transition: {} does not exist: --resume --collisions 0 reports points already measured",
                 p.display()
             ));
         }
@@ -570,7 +612,7 @@ pub fn run(args: &HardDiscArgs) -> Result<()> {
             sim.sim_box().lengths[0],
             carried.equilibration + carried.production,
         ));
-        for b in 0..args.blocks {
+        for b in 0..if report_only { 0 } else { args.blocks } {
             let before = sim.stats().disc_disc;
             let mut pressure = Pressure::new(&sim);
             if !run_counted(&mut sim, block_collisions, &mut pressure)? {
@@ -587,10 +629,13 @@ pub fn run(args: &HardDiscArgs) -> Result<()> {
             progress.set(k as u64 * args.blocks + b + 1);
         }
         collisions += sim.stats().disc_disc - c0;
-        if let (Some(a), Some(b)) = (point_cpu, cpu_seconds()) {
-            carried.cpu_seconds = (f64::from_bits(carried.cpu_seconds) + b - a).to_bits();
+        // A report leaves the checkpoint as it was.
+        if !report_only {
+            if let (Some(a), Some(b)) = (point_cpu, cpu_seconds()) {
+                carried.cpu_seconds = (f64::from_bits(carried.cpu_seconds) + b - a).to_bits();
+            }
+            write_point(&path, &sim, &carried)?;
         }
-        write_point(&path, &sim, &carried)?;
         let (z, z_error) = z_estimate(&carried.blocks);
         let l = sim.sim_box().lengths[0];
         // The packing as built (equal to the requested one up to rounding).
@@ -612,6 +657,7 @@ pub fn run(args: &HardDiscArgs) -> Result<()> {
             reference_mpmc_1024: reference.map(|r| r.mpmc_1024.0),
             deviation_sigmas: reference
                 .map(|r| (pressure - r.edmd.0) / pressure_error.hypot(r.edmd.1)),
+            drift_sigmas: drift_sigmas(&carried.blocks),
             collisions_per_disc: (carried.equilibration + carried.production) as f64 / n as f64,
             production_per_disc: carried.production as f64 / n as f64,
             blocks: carried.blocks.len(),
@@ -711,6 +757,7 @@ fn write_outputs(
             "reference_mpmc",
             "reference_mpmc_error",
             "reference_mpmc_1024",
+            "drift_sigmas",
             "collisions_per_disc",
             "production_per_disc",
             "n",
@@ -728,6 +775,7 @@ fn write_outputs(
                 nan(r.reference_mpmc),
                 nan(r.reference_mpmc_error),
                 nan(r.reference_mpmc_1024),
+                nan(r.drift_sigmas),
                 r.collisions_per_disc,
                 r.production_per_disc,
                 r.n as f64,
@@ -768,12 +816,11 @@ fn write_outputs(
         )
         .coloured([214, 39, 40]),
     );
-    // The loop is 0.02 on 9.18: show the published range unless a point falls outside it.
-    let in_range = rows
-        .iter()
-        .all(|r| r.packing >= 0.69 && r.packing <= 0.73 && (9.10..=9.32).contains(&r.pressure));
-    if in_range {
-        fig = fig.with_x_range(0.696, 0.722).with_y_range(9.15, 9.26);
+    if let Some((x, y)) = axes(
+        rows.iter()
+            .map(|r| (r.packing, r.pressure, r.pressure_error)),
+    ) {
+        fig = fig.with_x_range(x.0, x.1).with_y_range(y.0, y.1);
     }
     let (png, svg) = fig.save(&dir.join("hard-disc-eos"))?;
     files.push(png);
@@ -781,9 +828,47 @@ fn write_outputs(
     Ok(())
 }
 
+/// The figure's axes for points `(packing, pressure, error)`: the published range (the loop is
+/// 0.02 on 9.18), widened to take in every point and its error bar, since one drawn outside
+/// the axes would not be seen; `None` (axes fitted to the data) when a point is far from it.
+fn axes(points: impl Iterator<Item = (f64, f64, f64)>) -> Option<((f64, f64), (f64, f64))> {
+    const PAD: (f64, f64) = (0.002, 0.005);
+    let (mut x, mut y) = ((0.696f64, 0.722f64), (9.15f64, 9.26f64));
+    for (eta, p, e) in points {
+        if !((0.69..=0.73).contains(&eta) && (9.10..=9.32).contains(&p)) {
+            return None;
+        }
+        x = (x.0.min(eta - PAD.0), x.1.max(eta + PAD.0));
+        let e = if e.is_finite() { e } else { 0.0 };
+        y = (y.0.min(p - e - PAD.1), y.1.max(p + e + PAD.1));
+    }
+    Some((x, y))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_axes_take_in_every_point_and_its_error_bar() {
+        // Within the published range: that range.
+        assert_eq!(
+            axes([(0.70, 9.18, 0.004), (0.72, 9.23, 0.003)].into_iter()),
+            Some(((0.696, 0.722), (9.15, 9.26)))
+        );
+        // A point below it and one above, both shown whole.
+        let points = [(0.704, 9.1451, 0.0088), (0.72, 9.2603, 0.0027)];
+        let ((x0, x1), (y0, y1)) = axes(points.into_iter()).unwrap();
+        for (eta, p, e) in points {
+            assert!(
+                x0 < eta && eta < x1 && y0 < p - e && p + e < y1,
+                "{eta} {p} {e}"
+            );
+        }
+        // Far from it: fitted to the data.
+        assert_eq!(axes([(0.50, 4.0, 0.1)].into_iter()), None);
+        assert_eq!(axes([(0.70, 9.5, 0.1)].into_iter()), None);
+    }
 
     #[test]
     fn pressure_is_z_times_four_eta_over_pi() {
@@ -807,6 +892,17 @@ mod tests {
         let l = sim.sim_box().lengths[0];
         let lower = expanded(&sim.discs(), l, side(64, 0.70)).unwrap();
         assert_eq!(lower.overlaps(1e-12).count, 0);
+    }
+
+    #[test]
+    fn the_drift_compares_the_later_half_of_the_blocks_with_the_earlier() {
+        let b = |z: f64| [1f64.to_bits(), z.to_bits()];
+        assert_eq!(drift_sigmas(&[b(1.0), b(2.0), b(3.0)]), None);
+        // Halves 1, 3 and 5, 7 (the middle 4 in neither): means 2 and 6, errors 1 and 1.
+        let d = drift_sigmas(&[b(1.0), b(3.0), b(4.0), b(5.0), b(7.0)]).unwrap();
+        assert!((d - 4.0 / 2f64.sqrt()).abs() < 1e-12, "{d}");
+        let steady = drift_sigmas(&[b(1.0), b(3.0), b(3.0), b(1.0)]).unwrap();
+        assert_eq!(steady, 0.0);
     }
 
     #[test]
