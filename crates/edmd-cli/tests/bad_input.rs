@@ -426,3 +426,130 @@ fn ctrl_c_abandons_a_run_without_leaving_files() {
         "files left behind"
     );
 }
+
+#[test]
+fn steps_whose_speeds_would_overflow_are_refused() {
+    let file = |potential: &str, mass: &str| {
+        format!(
+            "2\n# edmd box 8 8\n# edmd boundary periodic\n# edmd potential 0 0 {potential}\n\
+             2 2 0.5 0 0.5 {mass} 0 0 0\n4 2 -0.5 0 0.5 {mass} 0 0 0\n"
+        )
+    };
+    // A well of -1e308 made the speed of a pair entering it infinite, and the run panicked
+    // on a NaN event time.
+    refused(&file("1.5 -1e308", "1"), "bad.txt:4: ");
+    refused(&file("1.5 -1e308", "1"), "larger than 1e100 in size");
+    refused(&file("1.1 1e100 1.2 -1e101", "1"), "larger than 1e100");
+    // Within the bound, but too deep for discs this light.
+    refused(
+        &file("1.5 -1e90", "1e-120"),
+        "too large for discs of mass 1e-120",
+    );
+}
+
+#[test]
+fn a_course_file_refuses_directives() {
+    refused(
+        "2\n0.5\n10 10\n2 5 1 0\n8 5 -1 0\n# edmd potential 0 0 1.5 -1\n",
+        "bad.txt:6: `# edmd potential` is a directive of the Princeton format",
+    );
+}
+
+#[test]
+fn gen_refuses_systems_the_run_would_refuse() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("g.txt");
+    let o = out.to_str().unwrap();
+    for (args, expect) in [
+        (
+            &["fluid", "--n", "100", "--packing", "0.3", "--well", "100"][..],
+            "is too small for a range",
+        ),
+        (
+            &[
+                "fluid",
+                "--dim",
+                "3",
+                "--n",
+                "100",
+                "--packing",
+                "0.3",
+                "--well",
+                "3",
+            ][..],
+            "is too small for a range",
+        ),
+        (
+            &[
+                "fluid",
+                "--n",
+                "100",
+                "--packing",
+                "0.3",
+                "--well",
+                "1.5",
+                "--depth",
+                "1e308",
+            ][..],
+            "--depth must be above 0 and at most 1e100",
+        ),
+        (
+            &["ring", "--n", "50", "--omega", "1e300"][..],
+            "--omega must be > 0 and at most 1e6",
+        ),
+    ] {
+        let mut a = vec!["gen"];
+        a.extend_from_slice(args);
+        a.extend_from_slice(&["-o", o]);
+        let r = run("edmd", &a, None);
+        let err = String::from_utf8_lossy(&r.stderr);
+        assert_eq!(r.status.code(), Some(2), "{args:?}: {err}");
+        assert!(
+            err.contains(expect),
+            "{args:?}: expected {expect:?} in {err}"
+        );
+        assert!(!out.exists(), "{args:?} wrote {o}");
+    }
+}
+
+#[test]
+fn a_checkpoint_on_standard_input_is_refused_saying_how_to_continue_it() {
+    use std::io::Write;
+    let dir = tempfile::tempdir().unwrap();
+    let f = write(&dir, "in.txt", "1\n0.5\n10 10\n5 5 1 0.5\n");
+    let ck = dir.path().join("c.ck");
+    let first = run(
+        "edmd",
+        &[
+            "run",
+            &f,
+            "--until",
+            "1",
+            "--checkpoint",
+            ck.to_str().unwrap(),
+        ],
+        None,
+    );
+    assert_eq!(first.status.code(), Some(0));
+    let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_edmd"))
+        .args(["run", "-", "--until", "2"])
+        .stdin(std::process::Stdio::piped())
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    child
+        .stdin
+        .take()
+        .unwrap()
+        .write_all(&std::fs::read(&ck).unwrap())
+        .unwrap();
+    let out = child.wait_with_output().unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{err}");
+    assert_eq!(err.lines().count(), 1, "{err}");
+    assert!(
+        err.contains("a checkpoint is continued from its file"),
+        "{err}"
+    );
+}

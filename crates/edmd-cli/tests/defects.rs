@@ -1194,6 +1194,40 @@ fn outputs_that_could_never_be_written_are_refused_before_any_work() {
             "--out-dir names a file, not a folder",
         ),
         (
+            // Inside a file: the folder could never be made.
+            s(&[
+                "run",
+                &input,
+                "--until",
+                "5",
+                "-o",
+                &out,
+                "--checkpoint",
+                &ck,
+                "--measure",
+                "pressure",
+                "--out-dir",
+                &format!("{input}/m"),
+            ]),
+            "--out-dir: the folder cannot be made",
+        ),
+        (
+            // The state file's own name: the folder could not be made once it was written.
+            s(&[
+                "run",
+                &input,
+                "--until",
+                "5",
+                "-o",
+                &out,
+                "--measure",
+                "pressure",
+                "--out-dir",
+                &out,
+            ]),
+            "--out-dir names the file --output writes",
+        ),
+        (
             s(&[
                 "gen",
                 "fluid",

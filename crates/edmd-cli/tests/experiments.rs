@@ -3,7 +3,7 @@
 
 use serde_json::Value;
 
-use crate::support::{ok_stdout, refused, run};
+use crate::support::{names, ok_stdout, refused, run};
 
 fn experiment(args: &[&str]) -> (Value, tempfile::TempDir) {
     let dir = tempfile::tempdir().unwrap();
@@ -605,11 +605,51 @@ fn square_well_refuses_bad_options_in_one_line() {
         (&["--density", "2"][..], "density 2"),
         (&["--precision", "0"][..], "--precision"),
         (&["--n", "3"][..], "--n"),
+        // Each density would wait 10 / rate to settle: hours.
+        (&["--rate", "0.001"][..], "--rate must be from 0.01"),
+        (
+            &["--density", "0.2,0.1,0.2"][..],
+            "density 0.2 is given twice",
+        ),
     ] {
         let mut a = vec!["experiment", "square-well"];
         a.extend_from_slice(args);
         refused(&run("edmd", &a, None), &[words]);
     }
+    refused(
+        &run(
+            "edmd",
+            &["experiment", "shoulder", "--density", "0.9,0.9"],
+            None,
+        ),
+        &["density 0.9 is given twice"],
+    );
+}
+
+#[test]
+fn a_failed_experiment_leaves_none_of_the_folders_it_made() {
+    // A range of 5 does not fit the box of 100 spheres at this density: refused once the
+    // output folder, and the two above it, were made.
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("n1/a/b");
+    let r = run(
+        "edmd",
+        &[
+            "experiment",
+            "square-well",
+            "--n",
+            "100",
+            "--density",
+            "0.1",
+            "--lambda",
+            "5",
+            "--out-dir",
+            out.to_str().unwrap(),
+        ],
+        None,
+    );
+    refused(&r, &["square-well"]);
+    assert!(names(dir.path()).is_empty(), "{:?}", names(dir.path()));
 }
 
 #[test]

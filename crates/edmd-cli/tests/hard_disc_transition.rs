@@ -234,6 +234,26 @@ fn hard_disc_collisions_0_reports_the_checkpoints_as_they_are() {
     for (c, b) in checkpoints.iter().zip(&before) {
         assert!(bytes(c) == *b, "{c} was written again");
     }
+    // A damaged checkpoint is refused before any point runs: the sound one (0.72, which
+    // runs first) is not continued and written again.
+    let damaged = dir.path().join(checkpoints[0]);
+    std::fs::write(&damaged, &before[0][..100]).unwrap();
+    let out = run(
+        "edmd",
+        &[
+            &["experiment", "hard-disc-transition", "--out-dir", d],
+            &base[..],
+            &["--resume", "--collisions", "10", "--blocks", "2"],
+        ]
+        .concat(),
+        None,
+    );
+    refused(&out, &["hard-disc-0.7000.checkpoint"]);
+    assert!(
+        bytes(checkpoints[1]) == before[1],
+        "0.72 ran before the refusal"
+    );
+    std::fs::write(&damaged, &before[0]).unwrap();
     // Refused: a point without a checkpoint, and dropping the blocks with nothing to measure.
     for (extra, words) in [
         (
@@ -268,6 +288,8 @@ fn hard_disc_bad_options_exit_2_with_one_line() {
     for (extra, words) in [
         (vec!["--n-side", "5"], vec!["--n-side must be even"]),
         (vec!["--n-side", "0"], vec!["--n-side"]),
+        // Its square overflows: refused, not a panic.
+        (vec!["--n-side", "4294967296"], vec!["--n-side"]),
         (vec!["--packings", "0.9"], vec!["0.9", "outside"]),
         (vec!["--packings", "0.70,0.7"], vec!["given twice"]),
         (vec!["--blocks", "1"], vec!["--blocks must be from 2"]),

@@ -50,7 +50,7 @@ pub enum Error {
         count: usize,
     },
     /// A periodic axis is too short for the cell grid's minimum-image convention.
-    #[error("periodic box length {length} on axis {axis} is less than 3 disc diameters ({min})")]
+    #[error("periodic box length {length} on axis {axis} is less than {min}, three times the reach of a pair (the largest diameter or, with a stepped potential, its outermost step)")]
     PeriodicBoxTooSmall {
         /// Axis.
         axis: usize,

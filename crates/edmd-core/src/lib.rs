@@ -50,5 +50,5 @@ pub use simulation::{
 pub use state::{
     species_colour, Barrier, Boundary, Colour, Demon, Disc, Gravity, PairSteps, Potential,
     Reaction, Reactions, Restitution, RestitutionLaw, Ring, SelfGravity, Shear, SimBox, Step,
-    System, MAX_REACTION_SPECIES,
+    System, MAX_REACTION_SPECIES, MAX_STEP_ENERGY,
 };

@@ -82,6 +82,17 @@ pub fn parse(text: &str) -> Result<CourseSystem, ParseError> {
         at.push(line);
     }
     expect_end(&mut lines, n)?;
+    // A directive would otherwise be passed over without a word, the run not being the one
+    // the file seems to describe.
+    if let Some((line, words)) = lines.directives.first() {
+        return Err(err(
+            *line,
+            format!(
+                "`# edmd {}` is a directive of the Princeton format; the course format has none",
+                words.first().copied().unwrap_or("")
+            ),
+        ));
+    }
     Ok(CourseSystem {
         radius,
         lengths: [l[0], l[1]],
@@ -181,6 +192,16 @@ mod tests {
             ("1\n1\n5 5\n1 NaN 1 1\n", 4, "y is not finite"),
             ("1\n1\n5 5\n1 1 inf 1\n", 4, "u is not finite"),
             ("1\n1\n5 5\n1 1 1 1\n2 2 2 2\n", 5, "more disc lines"),
+            (
+                "1\n1\n5 5\n1 1 1 1\n# edmd box 20 20\n",
+                5,
+                "`# edmd box` is a directive",
+            ),
+            (
+                "1\n# edmd potential 0 0 1.5 -1\n1\n5 5\n1 1 1 1\n",
+                2,
+                "course format has none",
+            ),
         ];
         for (text, line, what) in cases {
             let e = parse(text).unwrap_err();

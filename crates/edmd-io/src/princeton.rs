@@ -794,6 +794,14 @@ fn check_potential<const D: usize>(
                 format!("potential: no disc is of species {missing}"),
             ));
         };
+        let lightest = discs
+            .iter()
+            .filter(|d| d.species == a || d.species == b)
+            .map(|d| d.mass)
+            .fold(f64::INFINITY, f64::min);
+        if let Some(why) = edmd_core::state::steps_too_large(&p.steps, lightest) {
+            return Err(err(*line, format!("potential: {why}")));
+        }
         if let Some(s) = p.steps.first() {
             if s.radius <= ra + rb {
                 return Err(err(

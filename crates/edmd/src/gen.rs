@@ -252,9 +252,10 @@ impl GenArgs {
             ));
         }
         let depth = self.depth.unwrap_or(1.0);
-        if !(depth.is_finite() && depth > 0.0) {
+        if !(depth.is_finite() && depth > 0.0 && depth <= edmd_core::MAX_STEP_ENERGY) {
             return user_error(format!(
-                "gen {name}: --depth must be a finite number > 0, found {depth}"
+                "gen {name}: --depth must be above 0 and at most {:e}, found {depth}",
+                edmd_core::MAX_STEP_ENERGY
             ));
         }
         Ok(edmd_core::Potential::single(
@@ -265,16 +266,38 @@ impl GenArgs {
         ))
     }
 
-    /// [`Self::potential`] for a generated system: its largest diameter.
+    /// [`Self::potential`] for a generated system: its largest diameter. Refuses a range the
+    /// periodic box cannot hold three times across (the run would refuse the file).
     pub fn potential_of(&self, generated: &Generated) -> Result<edmd_core::Potential> {
-        let largest = |r: f64, x: f64| r.max(x);
-        let diameter = 2.0
-            * match generated {
-                Generated::Two(s, _) => s.discs.iter().map(|d| d.radius).fold(0.0, largest),
-                Generated::Three(s) => s.discs.iter().map(|d| d.radius).fold(0.0, largest),
-                Generated::One(s) => s.discs.iter().map(|d| d.radius).fold(0.0, largest),
-            };
-        self.potential(diameter)
+        // The largest radius and the box's shortest side.
+        fn sizes<const D: usize>(s: &edmd_core::System<D>) -> (f64, f64) {
+            let shortest = s.sim_box.lengths.iter().copied();
+            (
+                s.discs.iter().map(|d| d.radius).fold(0.0, f64::max),
+                shortest.fold(f64::INFINITY, f64::min),
+            )
+        }
+        let (radius, shortest) = match generated {
+            Generated::Two(s, _) => sizes(s),
+            Generated::Three(s) => sizes(s),
+            Generated::One(s) => sizes(s),
+        };
+        let potential = self.potential(2.0 * radius)?;
+        let reach = potential
+            .pairs
+            .iter()
+            .flat_map(|p| p.steps.last())
+            .map(|s| s.radius)
+            .fold(0.0, f64::max);
+        // The neighbour lists' cells need three ranges across a periodic box, and a little
+        // skin (`Steps::new`).
+        if reach > 0.0 && shortest < 3.01 * reach {
+            return user_error(format!(
+                "gen {}: the box ({shortest:.4} across) is too small for a range of {reach:.4}: a periodic box must be over 3 ranges across; give more discs (--n) or a shorter range",
+                self.kind
+            ));
+        }
+        Ok(potential)
     }
 }
 
@@ -908,12 +931,14 @@ pub fn ring_patch(args: &GenArgs) -> Result<edmd_core::setup::ring::RingPatch> {
         Some(n) => n as usize,
     };
     let omega = args.omega.unwrap_or(1.0);
+    // Bounded above so that the speeds of the flow and the positions stay far from
+    // overflowing (an orbital frequency of 10^300 gave speeds whose energy is not finite).
     let checked = |flag: &str, v: f64, zero: bool| {
-        if v.is_finite() && (v > 0.0 || (zero && v == 0.0)) {
+        if v.is_finite() && (v > 0.0 || (zero && v == 0.0)) && v <= 1e6 {
             Ok(v)
         } else {
             user_error(format!(
-                "gen {name}: --{flag} must be a finite number {}, found {v}",
+                "gen {name}: --{flag} must be {} and at most 1e6, found {v}",
                 if zero { ">= 0" } else { "> 0" }
             ))
         }

@@ -127,6 +127,15 @@ pub fn read_any(
 /// What a file starting with `start` is when it is an edmd checkpoint (a run's or a
 /// packing's), with the command that continues it; `None` for any other file.
 pub fn checkpoint_kind(path: &str, start: &[u8]) -> Option<String> {
+    // A checkpoint is continued from its file, which it is written back to.
+    if path == "-"
+        && (start.starts_with(edmd_core::CHECKPOINT_MAGIC)
+            || edmd_core::pack::is_pack_checkpoint(start))
+    {
+        return Some(
+            "-: an edmd checkpoint on standard input: a checkpoint is continued from its file (`edmd run FILE`, or `edmd pack FILE -o OUT` for a packing's)".to_string(),
+        );
+    }
     if start.starts_with(edmd_core::CHECKPOINT_MAGIC) {
         Some(format!(
             "{path}: an edmd run checkpoint, not a data file: `edmd run {path}` continues it"

@@ -131,14 +131,35 @@ pub fn check_stall<const D: usize>(sim: &edmd_core::Simulation<D>) -> anyhow::Re
 }
 
 /// [`edmd_core::Simulation::run_until`], then [`check_stall`]: every command that runs a
-/// simulation to a time goes through here.
+/// simulation to a time goes through here. The observer runs as a [`shared`] one.
 pub fn run_until<const D: usize, O: edmd_core::Observer<D>>(
     sim: &mut edmd_core::Simulation<D>,
     t: f64,
     observer: &mut O,
 ) -> anyhow::Result<()> {
-    sim.run_until(t, observer);
+    run_until_shared(sim, t, shared(observer))
+}
+
+fn run_until_shared<const D: usize>(
+    sim: &mut edmd_core::Simulation<D>,
+    t: f64,
+    mut observer: &mut dyn edmd_core::Observer<D>,
+) -> anyhow::Result<()> {
+    sim.run_until(t, &mut observer);
     check_stall(sim)
+}
+
+/// The observer as a trait object, for the runs of commands other than `edmd run` and `edmd
+/// bench`. The engine's event loop is compiled once for each type of observer it runs with
+/// (six copies: three kinds of interaction, two instruction sets). With an instance for each
+/// experiment's observer they were nearly two-thirds of the command-line library's machine
+/// code (11.6 MB in the test build); observers passed through here share one copy per
+/// dimension (6.6 MB in all), at the cost of a call through a pointer per event (a few
+/// nanoseconds, against the hundreds an event takes).
+pub fn shared<const D: usize>(
+    observer: &mut impl edmd_core::Observer<D>,
+) -> &mut dyn edmd_core::Observer<D> {
+    observer
 }
 
 /// Refuses an end time (`--until`) at or beyond the clock's limit for this system
@@ -162,14 +183,23 @@ pub const STOP_CHECK_EVENTS: u64 = 100_000;
 /// long stretch between two outputs can be interrupted. Returns `Ok(false)` when a stop was
 /// requested (the simulation is then somewhere before `t`), `Ok(true)` when it reached `t`.
 /// Positions are computed on demand, so the slices do not change the trajectory: without a
-/// stop the state at `t` is bit for bit that of [`run_until`].
+/// stop the state at `t` is bit for bit that of [`run_until`]. The observer runs as a
+/// [`shared`] one.
 pub fn run_until_or_stop<const D: usize, O: edmd_core::Observer<D>>(
     sim: &mut edmd_core::Simulation<D>,
     t: f64,
     observer: &mut O,
 ) -> anyhow::Result<bool> {
+    run_until_or_stop_shared(sim, t, shared(observer))
+}
+
+fn run_until_or_stop_shared<const D: usize>(
+    sim: &mut edmd_core::Simulation<D>,
+    t: f64,
+    mut observer: &mut dyn edmd_core::Observer<D>,
+) -> anyhow::Result<bool> {
     loop {
-        let more = sim.run_events_to(t, STOP_CHECK_EVENTS, observer) == STOP_CHECK_EVENTS;
+        let more = sim.run_events_to(t, STOP_CHECK_EVENTS, &mut observer) == STOP_CHECK_EVENTS;
         check_stall(sim)?;
         if stop::stop_requested() {
             return Ok(false);
@@ -178,7 +208,7 @@ pub fn run_until_or_stop<const D: usize, O: edmd_core::Observer<D>>(
             break;
         }
     }
-    run_until(sim, t, observer)?;
+    run_until_shared(sim, t, observer)?;
     Ok(true)
 }
 

@@ -278,7 +278,9 @@ pub fn check_file_destinations(outputs: &[(&str, &Path)]) -> Result<()> {
 }
 
 /// Refuses (exit status 2, before any work) a folder for output files that exists as
-/// something else (a file): it could not be made.
+/// something else (a file), or that cannot be made (inside a file, or where the user may not
+/// write): a folder that does not exist is made and removed again here, with any folders above
+/// it that this made, so that the run's work is not lost to a folder made only at its end.
 pub fn check_folder_destination(what: &str, dir: &Path) -> Result<()> {
     if dir.exists() && !dir.is_dir() {
         return Err(UserError(format!(
@@ -287,7 +289,33 @@ pub fn check_folder_destination(what: &str, dir: &Path) -> Result<()> {
         ))
         .into());
     }
-    Ok(())
+    if dir.exists() {
+        return Ok(());
+    }
+    let missing = missing_folders(dir);
+    let made = std::fs::create_dir_all(dir);
+    for p in missing {
+        let _ = std::fs::remove_dir(p);
+    }
+    made.map_err(|e| {
+        UserError(format!(
+            "{}: {what}: the folder cannot be made: {e}",
+            dir.display()
+        ))
+        .into()
+    })
+}
+
+/// The folders that making `dir` would make: `dir` and those above it that do not exist,
+/// the deepest first.
+pub fn missing_folders(dir: &Path) -> Vec<PathBuf> {
+    let mut missing = Vec::new();
+    let mut at = Some(dir);
+    while let Some(p) = at.filter(|p| !p.as_os_str().is_empty() && !p.exists()) {
+        missing.push(p.to_path_buf());
+        at = p.parent();
+    }
+    missing
 }
 
 /// Refuses (exit status 2, before any work) when an output is one of the inputs or two outputs

@@ -3,7 +3,7 @@
 //! a second or so, then ends cleanly (temporary files removed, what was promised on a stop
 //! written).
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
 
 use anyhow::Result;
@@ -59,9 +59,7 @@ pub fn stop_promptly() {
 /// empty) removed, one line, exit status 130.
 fn end_now(why: &str) -> ! {
     crate::output::remove_temporaries();
-    if let Some(dir) = CREATED_DIR.try_lock().ok().and_then(|mut c| c.take()) {
-        let _ = std::fs::remove_dir(dir);
-    }
+    remove_created_dirs();
     eprintln!("edmd: {why}");
     std::process::exit(crate::INTERRUPTED_STATUS.into());
 }
@@ -104,6 +102,26 @@ pub fn interruptible<T: Send + 'static>(
     }
 }
 
-/// The output folder when this run created it (removed again if the experiment fails and
-/// leaves it empty).
-pub static CREATED_DIR: std::sync::Mutex<Option<PathBuf>> = std::sync::Mutex::new(None);
+/// The output folders this run created, the deepest first: removed again, each only if
+/// empty, when the command fails or is stopped ([`remove_created_dirs`]).
+static CREATED_DIRS: std::sync::Mutex<Vec<PathBuf>> = std::sync::Mutex::new(Vec::new());
+
+/// Makes the folder `dir` and those above it that do not exist, remembering each one made,
+/// so that a command that fails leaves none of them behind ([`remove_created_dirs`]).
+pub fn create_dir_remembered(dir: &Path) -> std::io::Result<()> {
+    let missing = crate::output::missing_folders(dir);
+    // Remembered before they are made: a creation that fails half-way leaves some.
+    if let Ok(mut c) = CREATED_DIRS.lock() {
+        c.extend(missing);
+    }
+    std::fs::create_dir_all(dir)
+}
+
+/// Removes the folders [`create_dir_remembered`] made that are still empty, the deepest first.
+pub fn remove_created_dirs() {
+    if let Ok(mut c) = CREATED_DIRS.try_lock() {
+        for d in c.drain(..) {
+            let _ = std::fs::remove_dir(d);
+        }
+    }
+}

@@ -806,6 +806,12 @@ fn check_outputs(args: &RunArgs, which: &[Measure]) -> Result<()> {
         .collect();
     check_file_destinations(&files)?;
     if let (false, Some(dir)) = (csvs.is_empty(), measure_dir(args)) {
+        if let Some((what, _)) = files.iter().find(|(_, p)| *p == dir) {
+            return edmd::user_error(format!(
+                "{}: --out-dir names the file {what} writes; give the folder another name",
+                dir.display()
+            ));
+        }
         check_folder_destination("--out-dir", dir)?;
     }
     Ok(())

@@ -157,9 +157,12 @@ impl<const D: usize> Steps<D> {
             .max()
             .unwrap_or(1);
         let mut largest = vec![0.0f64; species];
+        let mut lightest = vec![f64::INFINITY; species];
         for d in discs {
             let l = &mut largest[d.species as usize];
             *l = l.max(d.radius);
+            let m = &mut lightest[d.species as usize];
+            *m = m.min(d.mass);
         }
         let mut index = vec![0u32; species * species];
         let mut outer = vec![0.0f64; species * species];
@@ -177,6 +180,12 @@ impl<const D: usize> Steps<D> {
             }
             if p.steps.is_empty() {
                 continue;
+            }
+            if let Some(why) = crate::state::steps_too_large(&p.steps, lightest[a].min(lightest[b]))
+            {
+                return Err(crate::Error::BadPotential(format!(
+                    "species {a} {b}: {why}"
+                )));
             }
             let core = largest[a] + largest[b];
             let inner = p.steps[0].radius;

@@ -14,7 +14,9 @@ pub mod sim_box;
 pub use barrier::{Barrier, Demon};
 pub use disc::{Colour, Disc};
 pub use gravity::Gravity;
-pub use potential::{PairSteps, Potential, Step, MAX_POTENTIAL_SPECIES, MAX_STEPS};
+pub use potential::{
+    steps_too_large, PairSteps, Potential, Step, MAX_POTENTIAL_SPECIES, MAX_STEPS, MAX_STEP_ENERGY,
+};
 pub use reaction::{species_colour, Reaction, Reactions, MAX_REACTION_SPECIES};
 pub use restitution::{Restitution, RestitutionLaw, BRIDGES_EXPONENT, MAX_RESTITUTION_SPECIES};
 pub use ring::Ring;

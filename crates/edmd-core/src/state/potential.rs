@@ -37,12 +37,31 @@ pub const MAX_STEPS: usize = 255;
 /// The most species a stepped potential names (the engine keeps a table per pair).
 pub const MAX_POTENTIAL_SPECIES: u16 = 256;
 
+/// The largest size of a step's energy. Beyond some 10^300 the speed a pair gains in a well
+/// overflows and the run ends in NaN; this bound keeps every sum of steps and of pairs finite
+/// with room to spare (the masses are checked against it with the discs).
+pub const MAX_STEP_ENERGY: f64 = 1e100;
+
 /// A stepped potential: the steps of each pair of species that has any. Pairs not named are
 /// hard cores only.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Potential {
     /// Per pair of species, its steps.
     pub pairs: Vec<PairSteps>,
+}
+
+/// Why steps of these energies are too large for a pair of discs whose lighter is of mass
+/// `lightest`, if they are. A pair crossing every step gains at most the sum of their sizes,
+/// and its relative speed squared twice that over the reduced mass (at least half the lighter
+/// mass); that is kept below 10^200, so that speeds, and sums over many pairs, stay finite.
+pub fn steps_too_large(steps: &[Step], lightest: f64) -> Option<String> {
+    let gain: f64 = steps.iter().map(|s| s.energy.abs()).sum();
+    let speed2 = 4.0 * gain / lightest;
+    (gain > 0.0 && (speed2.is_nan() || speed2 > 1e200)).then(|| {
+        format!(
+            "steps of {gain:e} in all are too large for discs of mass {lightest:e}: the speeds they give would overflow"
+        )
+    })
 }
 
 impl Potential {
@@ -71,7 +90,8 @@ impl Potential {
     }
 
     /// Checks the potential on its own: species below [`MAX_POTENTIAL_SPECIES`], each pair named
-    /// once, steps finite, in strictly increasing radius, at most [`MAX_STEPS`] per pair. (That
+    /// once, steps finite and their energies at most [`MAX_STEP_ENERGY`] in size, in strictly
+    /// increasing radius, at most [`MAX_STEPS`] per pair. (That
     /// every step lies outside the hard core of the discs it applies to is checked with the
     /// discs, by the simulation.)
     pub fn validate(&self) -> Result<(), Error> {
@@ -105,6 +125,12 @@ impl Potential {
                 if !step.energy.is_finite() {
                     return bad(format!(
                         "species {a} {b}: step energy {} is not finite",
+                        step.energy
+                    ));
+                }
+                if step.energy.abs() > MAX_STEP_ENERGY {
+                    return bad(format!(
+                        "species {a} {b}: step energy {:e} is larger than {MAX_STEP_ENERGY:e} in size",
                         step.energy
                     ));
                 }

@@ -8,9 +8,7 @@ use clap::Args;
 use serde::Serialize;
 
 pub use edmd::output::write_csv;
-pub use edmd::stop::{
-    install_ctrlc, interruptible, stop_promptly, stop_requested, CREATED_DIR, STOP_GRACE,
-};
+pub use edmd::stop::{install_ctrlc, interruptible, stop_promptly, stop_requested, STOP_GRACE};
 
 /// Options every experiment takes.
 #[derive(Debug, Clone, Args)]
@@ -39,12 +37,7 @@ pub fn interrupted_after(files: &[PathBuf]) -> Result<()> {
 
 /// Creates the output folder.
 pub fn out_dir(common: &CommonArgs) -> Result<&Path> {
-    if !common.out_dir.exists() {
-        if let Ok(mut c) = CREATED_DIR.lock() {
-            *c = Some(common.out_dir.clone());
-        }
-    }
-    std::fs::create_dir_all(&common.out_dir).map_err(|e| {
+    edmd::stop::create_dir_remembered(&common.out_dir).map_err(|e| {
         edmd::UserError(format!(
             "{}: cannot create the output folder: {e}",
             common.out_dir.display()

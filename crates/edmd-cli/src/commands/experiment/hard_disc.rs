@@ -224,6 +224,31 @@ struct Carried {
     blocks: Vec<[u64; 2]>,
 }
 
+impl Carried {
+    /// What is wrong with a record read back, if anything: counts too large to add to (more
+    /// than 10^18 collisions, which no run reaches), a CPU time or a block that is not a
+    /// finite number (a block's duration must be above 0).
+    fn fault(&self) -> Option<String> {
+        const MOST: u64 = 1_000_000_000_000_000_000;
+        let f = f64::from_bits;
+        if self.equilibration > MOST || self.production > MOST {
+            return Some(format!(
+                "{} collisions of equilibration and {} of production",
+                self.equilibration, self.production
+            ));
+        }
+        let cpu = f(self.cpu_seconds);
+        if !(cpu.is_finite() && cpu >= 0.0) {
+            return Some(format!("CPU time {cpu:e} s"));
+        }
+        self.blocks.iter().enumerate().find_map(|(k, &[dt, z])| {
+            let (dt, z) = (f(dt), f(z));
+            (!(dt.is_finite() && dt > 0.0 && z.is_finite()))
+                .then(|| format!("block {k} lasts {dt:e} with Z {z:e}"))
+        })
+    }
+}
+
 /// One packing.
 #[derive(Debug, Serialize)]
 pub struct Row {
@@ -394,7 +419,10 @@ fn run_counted<O: edmd_core::Observer<2>>(
         }
         // A collision is one event, so no more events than collisions to go: the count is
         // reached exactly, and blocks are equal whatever N.
-        let k = sim.run_events(SLICE.min(target - sim.stats().disc_disc), observer);
+        let k = sim.run_events(
+            SLICE.min(target - sim.stats().disc_disc),
+            &mut edmd::shared(observer),
+        );
         edmd::check_stall(sim)?;
         if k == 0 {
             return edmd::user_error("hard-disc-transition: no disc moves");
@@ -428,6 +456,12 @@ fn read_point(path: &Path, n_side: usize, packing: f64) -> Result<(Simulation, C
             path.display(),
             carried.n_side,
             f64::from_bits(carried.packing)
+        ));
+    }
+    if let Some(what) = carried.fault() {
+        return edmd::user_error(format!(
+            "{}: the experiment's record in the checkpoint is damaged: {what}",
+            path.display()
         ));
     }
     Ok((sim, carried))
@@ -469,7 +503,13 @@ fn drift_sigmas(blocks: &[[u64; 2]]) -> Option<f64> {
 
 fn check(args: &HardDiscArgs) -> Result<Vec<f64>> {
     let name = "hard-disc-transition";
-    if !(args.n_side >= 4 && args.n_side.is_multiple_of(2) && args.n_side * args.n_side <= MAX_N) {
+    if !(args.n_side >= 4
+        && args.n_side.is_multiple_of(2)
+        && args
+            .n_side
+            .checked_mul(args.n_side)
+            .is_some_and(|n| n <= MAX_N))
+    {
         return edmd::user_error(format!(
             "{name}: --n-side must be even, at least 4 and at most {} (N = n_side^2 <= {MAX_N}), found {}",
             (MAX_N as f64).sqrt() as usize / 2 * 2,
@@ -560,6 +600,17 @@ pub fn run(args: &HardDiscArgs) -> Result<()> {
                 "hard-disc-transition: {} does not exist: --resume --collisions 0 reports points already measured",
                 p.display()
             ));
+        }
+    }
+    // Every checkpoint is read once before any point runs, so that a damaged one is refused
+    // with the others as they were (a point run first would have been rewritten, and would
+    // add its blocks twice when the run is made again).
+    if args.resume {
+        for &p in &packings {
+            let path = checkpoint_path(dir, p);
+            if path.exists() {
+                read_point(&path, args.n_side, p)?;
+            }
         }
     }
     let equilibrate = args
@@ -848,6 +899,51 @@ fn axes(points: impl Iterator<Item = (f64, f64, f64)>) -> Option<((f64, f64), (f
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_damaged_record_is_found_before_it_is_added_to() {
+        let sound = Carried {
+            format: CARRIED_FORMAT.to_string(),
+            n_side: 8,
+            packing: 0.7f64.to_bits(),
+            equilibration: 100,
+            production: 200,
+            cpu_seconds: 1.5f64.to_bits(),
+            blocks: vec![[0.25f64.to_bits(), 2.0f64.to_bits()]],
+        };
+        assert_eq!(sound.fault(), None);
+        let damaged = |f: fn(&mut Carried)| {
+            let mut c = sound.clone();
+            f(&mut c);
+            c.fault()
+        };
+        for (what, fault) in [
+            ("equilibration", damaged(|c| c.equilibration = u64::MAX)),
+            ("production", damaged(|c| c.production = u64::MAX)),
+            (
+                "CPU time NaN",
+                damaged(|c| c.cpu_seconds = f64::NAN.to_bits()),
+            ),
+            (
+                "CPU time -1",
+                damaged(|c| c.cpu_seconds = (-1f64).to_bits()),
+            ),
+            (
+                "block lasting 0",
+                damaged(|c| c.blocks[0][0] = 0f64.to_bits()),
+            ),
+            (
+                "block lasting NaN",
+                damaged(|c| c.blocks[0][0] = f64::NAN.to_bits()),
+            ),
+            (
+                "Z inf",
+                damaged(|c| c.blocks[0][1] = f64::INFINITY.to_bits()),
+            ),
+        ] {
+            assert!(fault.is_some(), "{what} not found");
+        }
+    }
 
     #[test]
     fn the_axes_take_in_every_point_and_its_error_bar() {

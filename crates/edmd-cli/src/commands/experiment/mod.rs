@@ -128,10 +128,8 @@ pub fn run(which: &Experiment) -> Result<()> {
         (r, _) => r,
     };
     if result.is_err() {
-        // A failed experiment leaves no empty folder behind (only one this run created).
-        if let Some(dir) = common::CREATED_DIR.lock().ok().and_then(|mut c| c.take()) {
-            let _ = std::fs::remove_dir(dir);
-        }
+        // A failed experiment leaves no empty folder behind (only those this run created).
+        edmd::stop::remove_created_dirs();
     }
     result
 }

@@ -28,7 +28,7 @@ use serde::Serialize;
 use super::common::{
     files_line, interrupted_after, out_dir, report, write_csv, CommonArgs, Progress,
 };
-use super::square_well::{check_bath, measure_in_bath, particle_volume, Bath};
+use super::square_well::{check_bath, given_twice, measure_in_bath, particle_volume, Bath};
 
 /// Options of `edmd experiment shoulder`.
 #[derive(Debug, Args)]
@@ -207,6 +207,9 @@ fn run_in<const D: usize>(args: &ShoulderArgs) -> Result<()> {
     };
     if densities.is_empty() {
         return bad("give at least one density".into());
+    }
+    if let Some(r) = given_twice(&densities) {
+        return bad(format!("density {r} is given twice"));
     }
     if let Some(r) = densities
         .iter()

@@ -154,6 +154,9 @@ fn check(args: &SquareWellArgs, densities: &[f64], n: usize, max_density: f64) -
     if densities.is_empty() {
         return bad("give at least one density".into());
     }
+    if let Some(r) = given_twice(densities) {
+        return bad(format!("density {r} is given twice"));
+    }
     let min = edmd_core::setup::MIN_PACKING / edmd_core::setup::lattice::ball_volume(1.0, args.dim);
     if let Some(r) = densities
         .iter()
@@ -167,6 +170,15 @@ fn check(args: &SquareWellArgs, densities: &[f64], n: usize, max_density: f64) -
         return bad(format!("--n must be from 16 to 200000, found {n}"));
     }
     check_bath("square-well", args.precision, args.max_blocks, args.rate)
+}
+
+/// A value that `values` holds more than once.
+pub(super) fn given_twice(values: &[f64]) -> Option<f64> {
+    values
+        .iter()
+        .enumerate()
+        .find(|&(k, v)| values[..k].contains(v))
+        .map(|(_, &v)| v)
 }
 
 /// Checks the options of a run in the bath (`--precision`, `--max-blocks`, `--rate`) for
@@ -183,10 +195,10 @@ pub(super) fn check_bath(name: &str, precision: f64, max_blocks: usize, rate: f6
             "--max-blocks must be from 20 to 1000000, found {max_blocks}"
         ));
     }
-    if !(rate.is_finite() && rate > 0.0 && rate <= 100.0) {
-        return bad(format!(
-            "--rate must be above 0 and at most 100, found {rate}"
-        ));
+    // Each density settles for 10 / rate and measures in blocks of at least 2 / rate: below
+    // 0.01 a single density would take hours.
+    if !(rate.is_finite() && (0.01..=100.0).contains(&rate)) {
+        return bad(format!("--rate must be from 0.01 to 100, found {rate}"));
     }
     Ok(())
 }

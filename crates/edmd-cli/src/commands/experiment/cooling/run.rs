@@ -212,7 +212,7 @@ pub(super) fn cool<const D: usize>(spec: &Spec) -> Result<Option<Run>> {
             break;
         }
         loop {
-            let done = sim.run_events_to(start + t, SLICE, &mut counter);
+            let done = sim.run_events_to(start + t, SLICE, &mut edmd::shared(&mut counter));
             edmd::check_stall(&sim)?;
             if stop_requested() {
                 return Ok(None);

@@ -66,7 +66,7 @@ pub(super) fn run_observed<const D: usize, O: Observer<D>>(
             return Ok(false);
         }
         let slice = (target - sim.stats().disc_disc).min(10_000);
-        let done = sim.run_events(slice, observer);
+        let done = sim.run_events(slice, &mut edmd::shared(observer));
         edmd::check_stall(sim)?;
         if done == 0 {
             return edmd::user_error("reaction: no disc moves");

@@ -122,7 +122,7 @@ pub(super) fn prigogine_xhrouet<const D: usize>(
             if stop_requested() {
                 return Ok(None);
             }
-            let done = sim.run_events(slice, &mut (&mut kinetics, &mut count));
+            let done = sim.run_events(slice, &mut edmd::shared(&mut (&mut kinetics, &mut count)));
             edmd::check_stall(&sim)?;
             if done == 0 {
                 return edmd::user_error("reaction: no disc moves");
