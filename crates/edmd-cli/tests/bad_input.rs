@@ -495,7 +495,7 @@ fn gen_refuses_systems_the_run_would_refuse() {
         ),
         (
             &["ring", "--n", "50", "--omega", "1e300"][..],
-            "--omega must be > 0 and at most 1e6",
+            "--omega must be a finite number > 0 and at most 1e6",
         ),
     ] {
         let mut a = vec!["gen"];

@@ -938,7 +938,7 @@ pub fn ring_patch(args: &GenArgs) -> Result<edmd_core::setup::ring::RingPatch> {
             Ok(v)
         } else {
             user_error(format!(
-                "gen {name}: --{flag} must be {} and at most 1e6, found {v}",
+                "gen {name}: --{flag} must be a finite number {} and at most 1e6, found {v}",
                 if zero { ">= 0" } else { "> 0" }
             ))
         }
