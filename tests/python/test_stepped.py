@@ -428,12 +428,12 @@ GEN_CASES = [
      lambda v: edmd.gen.fluid(n=20, well=v)),
     ("shoulder", [-1, 0, 1.0, 101] + REAL_HOSTILE,
      lambda v: edmd.gen.fluid(n=20, shoulder=v)),
-    ("depth", [-1, 0] + REAL_HOSTILE, lambda v: edmd.gen.fluid(n=20, well=1.5, depth=v)),
+    ("depth", [-1, 0] + REAL_HOSTILE, lambda v: edmd.gen.fluid(n=100, well=1.5, depth=v)),
     ("depth", [1.0], lambda v: edmd.gen.fluid(n=20, depth=v)),  # without a well
-    ("shoulder", [1.5], lambda v: edmd.gen.fluid(n=20, well=1.5, shoulder=v)),  # both
+    ("shoulder", [1.5], lambda v: edmd.gen.fluid(n=100, well=1.5, shoulder=v)),  # both
     ("kt", [-1, 0] + REAL_HOSTILE, lambda v: edmd.gen.fluid(n=20, kt=v)),
-    ("rule", ["swap"], lambda v: edmd.gen.fluid(n=20, well=1.5, rule=v)),
-    ("multi", [True], lambda v: edmd.gen.fluid(n=20, well=1.5, multi=v)),
+    ("rule", ["swap"], lambda v: edmd.gen.fluid(n=100, well=1.5, rule=v)),
+    ("multi", [True], lambda v: edmd.gen.fluid(n=100, well=1.5, multi=v)),
 ]
 
 

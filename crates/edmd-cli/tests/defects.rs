@@ -1387,3 +1387,19 @@ fn frame_limits_count_from_the_start_of_the_run() {
         String::from_utf8_lossy(&film.stderr)
     );
 }
+
+// `--kt 1e300` was echoed as its 301 digits, `--kt 1e-300` as 300 zeros and a one: every
+// message's numbers are now written short, as they read back.
+#[test]
+fn numbers_in_messages_are_written_short() {
+    for (kt, shown) in [("1e300", "found 1e300"), ("1e-300", "found 1e-300")] {
+        let out = run(
+            "edmd",
+            &["experiment", "square-well", "--kt", kt, "--density", "0.1"],
+            None,
+        );
+        crate::support::refused(&out, &["--kt", shown]);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(!err.contains("0000000000"), "{err}");
+    }
+}

@@ -628,19 +628,37 @@ fn square_well_refuses_bad_options_in_one_line() {
 
 #[test]
 fn a_failed_experiment_leaves_none_of_the_folders_it_made() {
-    // A range of 5 does not fit the box of 100 spheres at this density: refused once the
-    // output folder, and the two above it, were made.
+    // Stopped before its first point is done, the chain has written nothing: the output
+    // folder, and the two above it that it made, are removed.
     let dir = tempfile::tempdir().unwrap();
-    let out = dir.path().join("n1/a/b");
+    let (code, _, err) = crate::support::signalled(
+        dir.path(),
+        &[
+            "experiment",
+            "hard-disc-transition",
+            "--packings",
+            "0.7",
+            "--out-dir",
+            "n1/a/b",
+        ],
+        "-TERM",
+        std::time::Duration::from_millis(1500),
+    );
+    assert_eq!(code, Some(130), "{err}");
+    assert!(err.contains("nothing written"), "{err}");
+    assert!(names(dir.path()).is_empty(), "{:?}", names(dir.path()));
+    // A box too small for the range at the second density is refused before the first runs,
+    // before any folder is made.
+    let out = dir.path().join("n2/a");
     let r = run(
         "edmd",
         &[
             "experiment",
             "square-well",
             "--n",
-            "100",
+            "1000",
             "--density",
-            "0.1",
+            "0.05,0.8",
             "--lambda",
             "5",
             "--out-dir",
@@ -648,7 +666,7 @@ fn a_failed_experiment_leaves_none_of_the_folders_it_made() {
         ],
         None,
     );
-    refused(&r, &["square-well"]);
+    refused(&r, &["square-well: density 0.8", "three times the reach"]);
     assert!(names(dir.path()).is_empty(), "{:?}", names(dir.path()));
 }
 

@@ -4,7 +4,7 @@
 
 use serde_json::Value;
 
-use crate::support::{names, refused, run, summary};
+use crate::support::{names, ok_stdout, refused, run, summary};
 
 fn num(r: &Value, key: &str) -> f64 {
     r[key]
@@ -119,6 +119,52 @@ fn hard_disc_a_tiny_chain_writes_its_rows_files_and_checkpoints() {
     assert_eq!(&png[..4], b"\x89PNG");
     let svg = std::fs::read_to_string(dir.path().join("hard-disc-eos.svg")).unwrap();
     assert!(svg.contains("<svg") && svg.contains("Engel"));
+    // The human summary's list of files written names the checkpoints it wrote too.
+    let out = run(
+        "edmd",
+        &[
+            "experiment",
+            "hard-disc-transition",
+            "--n-side",
+            "16",
+            "--packings",
+            "0.70,0.72",
+            "--resume",
+            "--collisions",
+            "4",
+            "--blocks",
+            "2",
+            "--out-dir",
+            dir.path().to_str().unwrap(),
+        ],
+        None,
+    );
+    let text = ok_stdout(&out);
+    let wrote = text
+        .lines()
+        .find(|l| l.starts_with("wrote: "))
+        .unwrap_or_default();
+    for f in [
+        "hard-disc-eos.csv",
+        "hard-disc-0.7000.checkpoint",
+        "hard-disc-0.7200.checkpoint",
+    ] {
+        assert!(wrote.contains(f), "{f} not in {wrote:?}");
+    }
+    // `edmd run` on a point's checkpoint names the experiment that continues it.
+    let point = dir.path().join("hard-disc-0.7000.checkpoint");
+    let out = run(
+        "edmd",
+        &["run", point.to_str().unwrap(), "--until", "1"],
+        None,
+    );
+    refused(
+        &out,
+        &[
+            "not a run's",
+            "edmd experiment hard-disc-transition --resume",
+        ],
+    );
 }
 
 #[test]

@@ -102,6 +102,8 @@ fn bad_thermostat_settings_are_refused() {
     for (kt, rate) in [
         (0.0, 1.0),
         (f64::NAN, 1.0),
+        // Speeds drawn at kT 1e308 overflowed: the run stopped as "jammed".
+        (1e101, 1.0),
         (1.0, -1.0),
         (1.0, f64::INFINITY),
     ] {

@@ -209,4 +209,20 @@ mod tests {
             assert!(e.message.contains(what), "{text:?}: {e}");
         }
     }
+
+    /// A file saved with a byte order mark (some Windows editors) reads as the same file,
+    /// in either format, and its format is still told apart.
+    #[test]
+    fn a_byte_order_mark_is_not_part_of_the_file() {
+        let text = "# two discs\n2\n0.5\n10 10\n2 5 1 0\n8 5 -1 0\n";
+        let marked = format!("\u{feff}{text}");
+        assert_eq!(parse(&marked).unwrap(), parse(text).unwrap());
+        assert_eq!(crate::detect(&marked), Some(crate::Format::Course));
+        let princeton = "1\n0.5 0.5 0 0 0.01 1 0 0 0\n";
+        let order = crate::princeton::ColumnOrder::default();
+        assert_eq!(
+            crate::princeton::parse(&format!("\u{feff}{princeton}"), order).unwrap(),
+            crate::princeton::parse(princeton, order).unwrap()
+        );
+    }
 }

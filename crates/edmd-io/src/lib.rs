@@ -127,8 +127,11 @@ pub enum Format {
 /// course format, anything else the Princeton format (whose reader then says what is wrong
 /// with a malformed line). `None` if the file has fewer than two non-blank lines.
 pub fn detect(text: &str) -> Option<Format> {
-    // Blank lines and `#` comments (allowed anywhere, also before N) say nothing of the format.
+    // Blank lines and `#` comments (allowed anywhere, also before N) say nothing of the format,
+    // nor does a byte order mark.
     let mut lines = text
+        .strip_prefix('\u{feff}')
+        .unwrap_or(text)
         .lines()
         .filter(|l| !l.trim().is_empty() && !l.trim_start().starts_with('#'));
     lines.next()?;

@@ -31,9 +31,15 @@ pub(crate) struct Lines<'a> {
 }
 
 impl<'a> Lines<'a> {
+    /// A byte order mark at the start (what some Windows editors put before UTF-8 text) is
+    /// not part of the first line.
     pub fn new(text: &'a str) -> Self {
         Lines {
-            inner: text.lines().enumerate(),
+            inner: text
+                .strip_prefix('\u{feff}')
+                .unwrap_or(text)
+                .lines()
+                .enumerate(),
             last: 0,
             directives: Vec::new(),
         }

@@ -183,30 +183,4 @@ fn path_error(obj: &Bound<'_, PyAny>, name: &str) -> PyErr {
     ))
 }
 
-/// Numbers written out in full by `{}` (1e300 as 301 digits, 1e-300 as 300 zeros and a one)
-/// in a message, shortened to Rust's `{:?}` form (`1e300`), which reads back to the same
-/// number.
-pub fn shorten_numbers(message: &str) -> String {
-    let mut out = String::with_capacity(message.len());
-    let mut digits = String::new();
-    let flush = |digits: &mut String, out: &mut String| {
-        let significant = digits.trim_start_matches(['0', '.']).len();
-        match digits.parse::<f64>() {
-            Ok(x) if (significant > 20 || digits.len() > 24) && x.is_finite() => {
-                out.push_str(&format!("{x:?}"))
-            }
-            _ => out.push_str(digits),
-        }
-        digits.clear();
-    };
-    for c in message.chars() {
-        if c.is_ascii_digit() || (c == '.' && !digits.is_empty() && !digits.contains('.')) {
-            digits.push(c);
-        } else {
-            flush(&mut digits, &mut out);
-            out.push(c);
-        }
-    }
-    flush(&mut digits, &mut out);
-    out
-}
+pub use edmd::front::shorten_numbers;

@@ -182,12 +182,34 @@ pub fn from_checkpoint_bytes<const D: usize>(
     bytes: &[u8],
 ) -> Result<(Simulation<D>, Format, Option<Measuring<D>>), String> {
     let (sim, extra) = Simulation::<D>::from_checkpoint(bytes).map_err(|e| e.to_string())?;
-    let unreadable = "checkpoint: the run's settings or measurements are missing or unreadable";
-    let (format, measuring) = read_extra::<D>(&extra).ok_or(unreadable)?;
+    let Some((format, measuring)) = read_extra::<D>(&extra) else {
+        return Err(unreadable_extra(&extra));
+    };
     if measuring.as_ref().is_some_and(|m| !m.fits(&sim)) {
-        return Err(unreadable.into());
+        return Err(unreadable_extra(&extra));
     }
     Ok((sim, format, measuring))
+}
+
+/// Why a checkpoint's own bytes after the engine's are not a run's: an experiment's
+/// checkpoint is named (its experiment continues it), anything else is unreadable.
+pub fn unreadable_extra(extra: &[u8]) -> String {
+    // The experiments' checkpoints carry JSON whose `format` names them
+    // (`edmd experiment hard-disc-transition 1`).
+    let prefix = br#"{"format":"edmd experiment "#;
+    if let Some(rest) = extra.strip_prefix(&prefix[..]) {
+        let name: String = rest
+            .iter()
+            .take_while(|b| b.is_ascii_alphanumeric() || **b == b'-')
+            .map(|&b| char::from(b))
+            .collect();
+        if !name.is_empty() {
+            return format!(
+                "checkpoint: a point of `edmd experiment {name}`, not a run's: that experiment continues it (edmd experiment {name} --resume --out-dir ITS_FOLDER)"
+            );
+        }
+    }
+    "checkpoint: the run's settings or measurements are missing or unreadable".into()
 }
 
 /// The names of measurements, as `--measure` takes them.

@@ -34,16 +34,48 @@ pub fn exit_with(program: &str, result: anyhow::Result<()>) -> ExitCode {
             ExitCode::SUCCESS
         }
         Err(e) if e.downcast_ref::<Interrupted>().is_some() => {
-            eprintln!("{program}: {}", format!("{e:#}").replace('\n', " "));
+            eprintln!("{program}: {}", error_line(&e));
             ExitCode::from(INTERRUPTED_STATUS)
         }
         Err(e) => {
             let user = is_user_error(&e);
-            let msg = format!("{e:#}").replace('\n', " ");
-            eprintln!("{program}: error: {msg}");
+            eprintln!("{program}: error: {}", error_line(&e));
             ExitCode::from(if user { 2 } else { 1 })
         }
     }
+}
+
+/// An error and its causes on one line, its numbers short (see [`shorten_numbers`]).
+fn error_line(e: &anyhow::Error) -> String {
+    shorten_numbers(&format!("{e:#}").replace('\n', " "))
+}
+
+/// Numbers written out in full by `{}` (1e300 as 301 digits, 1e-300 as 300 zeros and a one)
+/// in a message, whoever wrote it, shortened to Rust's `{:?}` form (`1e300`), which reads back
+/// to the same number.
+pub fn shorten_numbers(message: &str) -> String {
+    let mut out = String::with_capacity(message.len());
+    let mut digits = String::new();
+    let flush = |digits: &mut String, out: &mut String| {
+        let significant = digits.trim_start_matches(['0', '.']).len();
+        match digits.parse::<f64>() {
+            Ok(x) if (significant > 20 || digits.len() > 24) && x.is_finite() => {
+                out.push_str(&format!("{x:?}"))
+            }
+            _ => out.push_str(digits),
+        }
+        digits.clear();
+    };
+    for c in message.chars() {
+        if c.is_ascii_digit() || (c == '.' && !digits.is_empty() && !digits.contains('.')) {
+            digits.push(c);
+        } else {
+            flush(&mut digits, &mut out);
+            out.push(c);
+        }
+    }
+    flush(&mut digits, &mut out);
+    out
 }
 
 /// Parses command-line arguments with clap; usage errors become one line and exit status 2,
@@ -86,4 +118,20 @@ fn one_line(rendered: &str) -> String {
         .filter(|l| !l.is_empty())
         .collect();
     body.join(" ").trim_start_matches("error: ").to_string()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::shorten_numbers;
+
+    #[test]
+    fn long_numbers_are_shortened_and_short_ones_kept() {
+        let big = format!("found {} and {}", 1e300, 1e-300);
+        assert_eq!(shorten_numbers(&big), "found 1e300 and 1e-300");
+        // What a user reads as written stays: counts, times, file lines.
+        let plain = "line 12: 0.000001 is 1000000 times 3.14159265358979, 65536 discs.";
+        assert_eq!(shorten_numbers(plain), plain);
+        // Digits that are not a number Rust reads are kept as they are.
+        assert_eq!(shorten_numbers("v1.2.3"), "v1.2.3");
+    }
 }

@@ -790,9 +790,11 @@ fn at_kt<const D: usize>(
     args: &GenArgs,
 ) -> Result<edmd_core::System<D>> {
     if let (Some(kt), "fluid") = (args.kt, args.kind.as_str()) {
-        if !(kt.is_finite() && kt > 0.0) {
+        // The thermostat's bound: speeds at a larger kT overflow into infinite energies.
+        if !(kt.is_finite() && kt > 0.0 && kt <= edmd_core::MAX_STEP_ENERGY) {
             return user_error(format!(
-                "gen fluid: --kt must be a finite number > 0, found {kt}"
+                "gen fluid: --kt must be above 0 and at most {:e}, found {kt}",
+                edmd_core::MAX_STEP_ENERGY
             ));
         }
         let scale = kt.sqrt();

@@ -357,7 +357,9 @@ pub fn check_distinct(inputs: &[(&str, &Path)], outputs: &[(&str, &Path)]) -> Re
     Ok(())
 }
 
-/// Writes a CSV file (header line, then one row per record), whole or not at all.
+/// Writes a CSV file (header line, then one row per record), whole or not at all. A NaN, a
+/// value that does not exist (no reference at that point, an error from one block), is an
+/// empty cell, which spreadsheets and pandas read as missing, as the JSON's `null` is.
 pub fn write_csv(
     path: &Path,
     header: &[&str],
@@ -367,7 +369,16 @@ pub fn write_csv(
     let w = f.writer();
     writeln!(w, "{}", header.join(","))?;
     for row in rows {
-        let cells: Vec<String> = row.iter().map(|x| format!("{x:?}")).collect();
+        let cells: Vec<String> = row
+            .iter()
+            .map(|x| {
+                if x.is_nan() {
+                    String::new()
+                } else {
+                    format!("{x:?}")
+                }
+            })
+            .collect();
         writeln!(w, "{}", cells.join(","))?;
     }
     f.commit()
@@ -376,6 +387,17 @@ pub fn write_csv(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A value that does not exist is an empty cell, not `NaN`.
+    #[test]
+    fn csv_cells_without_a_value_are_empty() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("t.csv");
+        let rows = vec![vec![1.0, f64::NAN, 0.1], vec![f64::INFINITY, 2.0, f64::NAN]];
+        write_csv(&path, &["a", "b", "c"], rows).unwrap();
+        let text = std::fs::read_to_string(&path).unwrap();
+        assert_eq!(text, "a,b,c\n1.0,,0.1\ninf,2.0,\n");
+    }
 
     /// Regression: a failed final rename left its temporary file behind.
     #[test]

@@ -216,8 +216,9 @@ fn resume<const D: usize>(args: &RunArgs, bytes: &[u8]) -> Result<()> {
         .or_else(|e| user_error(format!("{}: {e}", args.file)))?;
     let unreadable = || {
         user_error(format!(
-            "{}: checkpoint: the run's settings or measurements are missing or unreadable",
-            args.file
+            "{}: {}",
+            args.file,
+            edmd::checkpoint::unreadable_extra(&extra)
         ))
     };
     let Some((format, measuring)) = read_extra::<D>(&extra) else {

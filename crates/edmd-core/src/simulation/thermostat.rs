@@ -47,11 +47,14 @@ fn stream(seed: u64, i: usize, k: u32) -> rand_pcg::Pcg64Mcg {
 }
 
 impl Andersen {
-    /// Checks the settings: a finite positive temperature and rate.
+    /// Checks the settings: a positive temperature no larger than a step's energy may be
+    /// ([`crate::MAX_STEP_ENERGY`]: the speeds drawn at a larger one overflow into infinite
+    /// energies), and a finite positive rate.
     pub fn validate(&self) -> Result<(), crate::Error> {
-        if !(self.kt.is_finite() && self.kt > 0.0) {
+        if !(self.kt.is_finite() && self.kt > 0.0 && self.kt <= crate::MAX_STEP_ENERGY) {
             return Err(crate::Error::Invalid(format!(
-                "thermostat: kT must be a finite number > 0, found {}",
+                "thermostat: kT must be above 0 and at most {:e}, found {:?}",
+                crate::MAX_STEP_ENERGY,
                 self.kt
             )));
         }

@@ -621,6 +621,8 @@ pub fn run(args: &HardDiscArgs) -> Result<()> {
     let cpu0 = cpu_seconds();
     let progress = Progress::new(packings.len() as u64 * args.blocks, "hard-disc-transition");
     let mut rows = Vec::new();
+    // The checkpoints this run wrote, for the list of files written.
+    let mut written = Vec::new();
     let mut collisions = 0u64;
     // The state the next (lower) packing starts from: discs, the box's side, collisions seen.
     let mut chain: Option<(Vec<Disc>, f64, u64)> = None;
@@ -686,6 +688,7 @@ pub fn run(args: &HardDiscArgs) -> Result<()> {
                 carried.cpu_seconds = (f64::from_bits(carried.cpu_seconds) + b - a).to_bits();
             }
             write_point(&path, &sim, &carried)?;
+            written.push(path.clone());
         }
         let (z, z_error) = z_estimate(&carried.blocks);
         let l = sim.sim_box().lengths[0];
@@ -724,6 +727,7 @@ pub fn run(args: &HardDiscArgs) -> Result<()> {
     if !rows.is_empty() {
         write_outputs(args, dir, &rows, &mut files)?;
     }
+    files.extend(written);
     let summary = Summary {
         experiment: "hard-disc-transition",
         n_side: args.n_side,

@@ -28,7 +28,9 @@ use serde::Serialize;
 use super::common::{
     files_line, interrupted_after, out_dir, report, write_csv, CommonArgs, Progress,
 };
-use super::square_well::{check_bath, given_twice, measure_in_bath, particle_volume, Bath};
+use super::square_well::{
+    check_bath, check_start, given_twice, measure_in_bath, particle_volume, Bath,
+};
 
 /// Options of `edmd experiment shoulder`.
 #[derive(Debug, Args)]
@@ -236,7 +238,6 @@ fn run_in<const D: usize>(args: &ShoulderArgs) -> Result<()> {
         ));
     }
     check_bath("shoulder", args.precision, args.max_blocks, args.rate)?;
-    let dir = out_dir(&args.common)?;
     let steps = [Step {
         radius: args.lambda,
         energy: 1.0,
@@ -254,12 +255,9 @@ fn run_in<const D: usize>(args: &ShoulderArgs) -> Result<()> {
         plan.push((args.low_density, "fluid"));
     }
     plan.extend(densities.iter().map(|&r| (r, "crystal")));
-    let bar = Progress::new(plan.len() as u64, "shoulder");
-    let mut rows = Vec::new();
-    let mut n_crystal = 0;
-    for (k, &(rho, start)) in plan.iter().enumerate() {
+    let start_at = |k: usize, rho: f64, start: &str| {
         let seed = args.common.seed + k as u64;
-        let (discs, bx) = if start == "fluid" {
+        if start == "fluid" {
             let n = if D == 3 { 1000 } else { 500 };
             let (mut d, b) =
                 lattice_fluid_in::<D>(n, rho * particle_volume::<D>(), Boundary::Periodic, seed)
@@ -267,10 +265,22 @@ fn run_in<const D: usize>(args: &ShoulderArgs) -> Result<()> {
             for x in &mut d {
                 x.vel = x.vel * args.kt.sqrt();
             }
-            (d, b)
+            Ok((d, b))
         } else {
-            crystal::<D>(cells, rho, args.kt, seed)?
-        };
+            crystal::<D>(cells, rho, args.kt, seed)
+        }
+    };
+    for (k, &(rho, start)) in plan.iter().enumerate() {
+        let (discs, bx) = start_at(k, rho, start)?;
+        check_start(&format!("shoulder: density {rho}"), &discs, bx, &potential)?;
+    }
+    let dir = out_dir(&args.common)?;
+    let bar = Progress::new(plan.len() as u64, "shoulder");
+    let mut rows = Vec::new();
+    let mut n_crystal = 0;
+    for (k, &(rho, start)) in plan.iter().enumerate() {
+        let seed = args.common.seed + k as u64;
+        let (discs, bx) = start_at(k, rho, start)?;
         if start == "crystal" {
             n_crystal = discs.len();
         }

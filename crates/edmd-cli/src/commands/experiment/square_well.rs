@@ -238,6 +238,20 @@ pub(super) struct Measured {
 /// particle, each with 20 energy samples, until the errors of `Z` and `U/N` are within the
 /// precision (or the most blocks). `None` if a stop was requested. `what` names the system in
 /// messages.
+/// Sets up a start's engine and drops it: run over every point before the first runs, so
+/// that a point the engine would refuse (a box too small for the potential's reach) is
+/// refused before any work rather than after the points before it.
+pub(super) fn check_start<const D: usize>(
+    what: &str,
+    discs: &[edmd_core::Disc<D>],
+    bx: edmd_core::SimBox<D>,
+    potential: &Potential,
+) -> Result<()> {
+    Simulation::with_potential_at(discs, bx, &[], potential, Options::default(), 0.0)
+        .map(drop)
+        .or_else(|e| edmd::user_error(format!("{what}: {e}")))
+}
+
 pub(super) fn measure_in_bath<const D: usize>(
     what: &str,
     discs: &[edmd_core::Disc<D>],
@@ -317,6 +331,20 @@ pub(super) fn measure_in_bath<const D: usize>(
     }))
 }
 
+/// The start at one density: its name in messages, the fluid and its box.
+#[allow(clippy::type_complexity)]
+fn start<const D: usize>(
+    n: usize,
+    rho: f64,
+    seed: u64,
+) -> Result<(String, Vec<edmd_core::Disc<D>>, edmd_core::SimBox<D>)> {
+    let what = format!("square-well: density {rho}");
+    let (discs, bx) =
+        lattice_fluid_in::<D>(n, rho * particle_volume::<D>(), Boundary::Periodic, seed)
+            .or_else(|e| edmd::user_error(format!("{what}: {e}")))?;
+    Ok((what, discs, bx))
+}
+
 /// What one density gave, or `None` if a stop was requested.
 fn measure<const D: usize>(
     args: &SquareWellArgs,
@@ -329,10 +357,7 @@ fn measure<const D: usize>(
         energy: -1.0,
     }];
     let potential = Potential::single(0, 0, args.lambda, -1.0);
-    let what = format!("square-well: density {rho}");
-    let (discs, bx) =
-        lattice_fluid_in::<D>(n, rho * particle_volume::<D>(), Boundary::Periodic, seed)
-            .or_else(|e| edmd::user_error(format!("{what}: {e}")))?;
+    let (what, discs, bx) = start::<D>(n, rho, seed)?;
     let bath = Bath {
         kt: args.kt,
         rate: args.rate,
@@ -392,6 +417,11 @@ fn run_in<const D: usize>(args: &SquareWellArgs) -> Result<()> {
     // 0.494) and hard discs (0.70).
     let max_density = if D == 3 { 0.9 } else { 0.85 };
     check(args, &densities, n, max_density)?;
+    let potential = Potential::single(0, 0, args.lambda, -1.0);
+    for (k, &rho) in densities.iter().enumerate() {
+        let (what, discs, bx) = start::<D>(n, rho, args.common.seed + k as u64)?;
+        check_start(&what, &discs, bx, &potential)?;
+    }
     let dir = out_dir(&args.common)?;
     let bar = Progress::new(densities.len() as u64, "square-well");
     let mut rows = Vec::new();
