@@ -33,16 +33,23 @@ fn same_bits(a: &Value, b: &Value, keys: &[&str]) {
     }
 }
 
-fn experiment(dir: &std::path::Path, extra: &[&str]) -> Value {
+/// `edmd experiment hard-disc-transition --out-dir DIR EXTRA...`.
+fn command(dir: &std::path::Path, extra: &[&str]) -> std::process::Output {
     let mut args = vec![
         "experiment",
         "hard-disc-transition",
-        "--json",
         "--out-dir",
         dir.to_str().unwrap(),
     ];
     args.extend_from_slice(extra);
-    summary(&run("edmd", &args, None))
+    run("edmd", &args, None)
+}
+
+/// The JSON summary of the command with `--json` and `extra`.
+fn experiment(dir: &std::path::Path, extra: &[&str]) -> Value {
+    let mut args = vec!["--json"];
+    args.extend_from_slice(extra);
+    summary(&command(dir, &args))
 }
 
 #[test]
@@ -120,11 +127,9 @@ fn hard_disc_a_tiny_chain_writes_its_rows_files_and_checkpoints() {
     let svg = std::fs::read_to_string(dir.path().join("hard-disc-eos.svg")).unwrap();
     assert!(svg.contains("<svg") && svg.contains("Engel"));
     // The human summary's list of files written names the checkpoints it wrote too.
-    let out = run(
-        "edmd",
+    let out = command(
+        dir.path(),
         &[
-            "experiment",
-            "hard-disc-transition",
             "--n-side",
             "16",
             "--packings",
@@ -134,10 +139,7 @@ fn hard_disc_a_tiny_chain_writes_its_rows_files_and_checkpoints() {
             "4",
             "--blocks",
             "2",
-            "--out-dir",
-            dir.path().to_str().unwrap(),
         ],
-        None,
     );
     let text = ok_stdout(&out);
     let wrote = text
@@ -352,20 +354,9 @@ fn hard_disc_bad_options_exit_2_with_one_line() {
         "not a checkpoint",
     )
     .unwrap();
-    let out = run(
-        "edmd",
-        &[
-            "experiment",
-            "hard-disc-transition",
-            "--n-side",
-            "16",
-            "--packings",
-            "0.70",
-            "--resume",
-            "--out-dir",
-            d,
-        ],
-        None,
+    let out = command(
+        dir.path(),
+        &["--n-side", "16", "--packings", "0.70", "--resume"],
     );
     refused(&out, &["hard-disc-0.7000.checkpoint"]);
 }
