@@ -1402,4 +1402,28 @@ fn numbers_in_messages_are_written_short() {
         let err = String::from_utf8_lossy(&out.stderr);
         assert!(!err.contains("0000000000"), "{err}");
     }
+    // An experiment's human summary too (`to t = 0.000...0001` with 308 zeros).
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path().to_str().unwrap();
+    let out = run(
+        "edmd",
+        &[
+            "experiment",
+            "diffusion",
+            "--n",
+            "20",
+            "--until",
+            "1e-308",
+            "--samples",
+            "5",
+            "--out-dir",
+            d,
+        ],
+        None,
+    );
+    let said = crate::support::ok_stdout(&out);
+    assert!(
+        said.contains("1e-308") && !said.contains("0000000000"),
+        "{said}"
+    );
 }

@@ -538,6 +538,7 @@ fn jamming_options_are_validated() {
         vec!["experiment", "jamming", "--pressure", "0.5"],
         vec!["experiment", "jamming", "--fraction-large", "0.3"],
         vec!["experiment", "jamming", "--size-ratio", "20"],
+        vec!["experiment", "jamming", "--crystal-packing", "5"],
     ] {
         let out = run("edmd", &args, None);
         assert_eq!(out.status.code(), Some(2), "{args:?}");

@@ -99,6 +99,8 @@ fn bad_options_are_refused() {
         (vec!["--restitution", "x"], "--restitution"),
         (vec!["--n", "1"], "--n"),
         (vec!["--tau", "0"], "--tau"),
+        // A grid of the patch's width squared overflowed or could not be allocated.
+        (vec!["--tau", "1e-9"], "--tau must be from 1e-4"),
         (vec!["--orbits", "0"], "--orbits"),
         (vec!["--bridges-vc", "0"], "--bridges-vc"),
     ] {

@@ -38,6 +38,16 @@ fn soak_options_out_of_range_are_refused() {
         &["soak", "--n", "1"],
         &["soak", "--packing", "0.95"],
         &["soak", "--dim", "4"],
+        // More checks than collisions found the clock "stopped" between two checks.
+        &[
+            "soak",
+            "--n",
+            "100",
+            "--collisions",
+            "1000",
+            "--checks",
+            "100000",
+        ],
     ] {
         let out = run("edmd", args, None);
         assert_eq!(out.status.code(), Some(2), "{args:?}");

@@ -161,6 +161,14 @@ fn soak<const D: usize>(args: &SoakArgs) -> Result<()> {
     let packing = args.packing.unwrap_or(if D == 3 { 0.45 } else { 0.6 });
     check_n("soak", args.n, 2)?;
     check_packings("soak", &[packing], close_packing(D))?;
+    // Each check needs collisions since the one before: more checks than collisions would
+    // find the clock "stopped" between two of them.
+    if args.checks == 0 || args.checks as u64 > args.collisions {
+        return user_error(format!(
+            "soak: --checks must be from 1 to --collisions ({}), found {}",
+            args.collisions, args.checks
+        ));
+    }
     let (discs, sim_box) = lattice_fluid_in::<D>(args.n, packing, Boundary::Periodic, args.seed)
         .or_else(|e| user_error(format!("soak: {e}")))?;
     let mut sim = Simulation::new(&discs, sim_box, Options::default())

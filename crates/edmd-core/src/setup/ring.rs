@@ -60,6 +60,15 @@ impl RingPatch {
                 self.dispersion
             ));
         }
+        // The faintest rings (Saturn's D ring) have optical depths of about 1e-5; below 1e-4 a
+        // patch of a few thousand particles is a box thousands of diameters wide whose
+        // particles almost never meet.
+        if self.tau < 1e-4 {
+            return bad(format!(
+                "optical depth {:?} is below 1e-4: the particles would almost never meet",
+                self.tau
+            ));
+        }
         let most = if D == 2 { 0.5 } else { 2.0 };
         if self.tau > most {
             return bad(format!(
@@ -105,8 +114,11 @@ impl RingPatch {
         let mut rng = Pcg64Mcg::seed_from_u64(self.seed);
         let h = (self.dispersion / self.omega).max(d);
         let mut placed: Vec<Vector<D>> = Vec::with_capacity(n);
-        // A hash of cells one diameter wide, for the overlap test.
-        let cells = (side / d).floor().max(1.0) as usize;
+        // A hash of cells at least one diameter wide, for the overlap test: no more of them
+        // than about four per particle, so that a dilute patch (a tiny optical depth) does not
+        // ask for a grid of its width squared.
+        let most = 2 * (n as f64).sqrt().ceil() as usize + 1;
+        let cells = ((side / d).floor().max(1.0) as usize).min(most);
         let mut grid: Vec<Vec<u32>> = vec![Vec::new(); cells * cells];
         let cell = |p: Vector<D>| -> (usize, usize) {
             let f = |x: f64| ((x / side * cells as f64) as usize).min(cells - 1);

@@ -80,11 +80,13 @@ impl Progress {
 }
 
 /// Prints the summary: JSON on request, else the human text.
+/// The human text's numbers are written short (`1e-308`, not 308 digits: see
+/// [`edmd::front::shorten_numbers`]), whatever options gave them.
 pub fn report<T: Serialize>(common: &CommonArgs, summary: &T, human: &str) -> Result<()> {
     if common.json {
         edmd::front::print_line(&serde_json::to_string(summary)?);
     } else {
-        edmd::front::print_line(human);
+        edmd::front::print_line(&edmd::front::shorten_numbers(human));
     }
     Ok(())
 }

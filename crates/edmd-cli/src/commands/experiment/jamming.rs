@@ -218,6 +218,12 @@ fn run_in<const D: usize>(args: &JammingArgs) -> Result<()> {
     let crystal = args
         .crystal_packing
         .unwrap_or(if D == 3 { 0.66 } else { 0.86 });
+    // A packing fraction: above 0 and below 1 (no packing fills space).
+    if !(crystal > 0.0 && crystal < 1.0) {
+        return edmd::user_error(format!(
+            "jamming: --crystal-packing must be above 0 and below 1, found {crystal}"
+        ));
+    }
     let dir = out_dir(&args.common)?;
     let total = args.rates.len() as u64 * args.seeds;
     let progress = Progress::new(total, "jamming");

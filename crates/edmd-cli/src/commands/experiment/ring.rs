@@ -68,7 +68,7 @@ pub struct RingArgs {
     /// Number of particles (spheres of diameter 1).
     #[arg(long, default_value_t = 500, allow_negative_numbers = true)]
     pub n: usize,
-    /// Dynamical optical depth, N pi r^2 / (L_x L_y), from above 0 to 1.
+    /// Dynamical optical depth, N pi r^2 / (L_x L_y), from 1e-4 to 1.
     #[arg(long, default_value_t = 0.25, allow_negative_numbers = true)]
     pub tau: f64,
     /// Length of each run, in orbital periods 2 pi / Omega.
@@ -221,9 +221,9 @@ struct Sample {
 /// Runs the experiment.
 pub fn run(args: &RingArgs) -> Result<()> {
     check_n("ring", args.n, 20)?;
-    if !(args.tau > 0.0 && args.tau <= 1.0) {
+    if !(args.tau >= 1e-4 && args.tau <= 1.0) {
         return edmd::user_error(format!(
-            "ring: --tau must be above 0 and at most 1, found {}",
+            "ring: --tau must be from 1e-4 to 1, found {}",
             args.tau
         ));
     }
@@ -238,7 +238,9 @@ pub fn run(args: &RingArgs) -> Result<()> {
     let laws = parse_laws(&args.restitution)?;
     let patch = patch(args, COLD);
     // The generator's own checks (a patch too small for its cells), before anything is written.
-    patch.build::<3>()?;
+    patch
+        .build::<3>()
+        .or_else(|e| edmd::user_error(format!("ring: {e}")))?;
     let dir = out_dir(&args.common)?;
     let starts: &[(&'static str, f64)] = match args.start {
         Start::Cold => &[("cold", COLD)],
