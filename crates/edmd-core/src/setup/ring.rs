@@ -10,13 +10,18 @@ use crate::error::Error;
 use crate::math::Vector;
 use crate::state::{Boundary, Disc, SimBox};
 
+/// The smallest optical depth a patch is made at. Below it a patch of a few thousand
+/// particles is a box thousands of diameters wide whose particles almost never meet (Saturn's
+/// faintest rings, near 1e-5, are beyond what such a patch can show).
+pub const MIN_OPTICAL_DEPTH: f64 = 1e-4;
+
 /// A ring patch of `n` equal particles of mass 1.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct RingPatch {
     /// Number of particles (at least 2).
     pub n: usize,
     /// The dynamical optical depth, `n pi r^2 / (L_x L_y)` (in 2D the area fraction): in
-    /// `(0, 0.5]` in 2D, `(0, 2]` in 3D.
+    /// `[1e-4, 0.5]` in 2D, `[1e-4, 2]` in 3D ([`MIN_OPTICAL_DEPTH`]).
     pub tau: f64,
     /// Each particle's radius.
     pub radius: f64,
@@ -60,12 +65,9 @@ impl RingPatch {
                 self.dispersion
             ));
         }
-        // The faintest rings (Saturn's D ring) have optical depths of about 1e-5; below 1e-4 a
-        // patch of a few thousand particles is a box thousands of diameters wide whose
-        // particles almost never meet.
-        if self.tau < 1e-4 {
+        if self.tau < MIN_OPTICAL_DEPTH {
             return bad(format!(
-                "optical depth {:?} is below 1e-4: the particles would almost never meet",
+                "optical depth {:?} is below {MIN_OPTICAL_DEPTH:e}: the particles would almost never meet",
                 self.tau
             ));
         }

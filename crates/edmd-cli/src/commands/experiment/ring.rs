@@ -221,9 +221,10 @@ struct Sample {
 /// Runs the experiment.
 pub fn run(args: &RingArgs) -> Result<()> {
     check_n("ring", args.n, 20)?;
-    if !(args.tau >= 1e-4 && args.tau <= 1.0) {
+    if !(args.tau >= edmd_core::setup::ring::MIN_OPTICAL_DEPTH && args.tau <= 1.0) {
         return edmd::user_error(format!(
-            "ring: --tau must be from 1e-4 to 1, found {}",
+            "ring: --tau must be from {:e} to 1, found {}",
+            edmd_core::setup::ring::MIN_OPTICAL_DEPTH,
             args.tau
         ));
     }
