@@ -342,6 +342,28 @@ fn generators_take_their_options_and_refuse_the_impossible() {
             "course format",
         ),
         (vec!["experiment", "demon", "--door", "2"], "--door"),
+        // Narrower than a disc: nothing passes (1e-308 named the core's "barrier 0").
+        (
+            vec!["experiment", "demon", "--door", "1e-308"],
+            "wider than a disc",
+        ),
+        // Once "brownian: brownian: the discs would cover 197.1% ... use fewer or smaller discs".
+        (
+            vec!["experiment", "brownian", "--n", "100000"],
+            "brownian: --n must be at most 19971",
+        ),
+        (
+            vec!["experiment", "maxwell", "--bins", "1"],
+            "--bins must be from 2",
+        ),
+        (
+            vec!["experiment", "reversibility", "--n", "1"],
+            "--n must be from 2",
+        ),
+        (
+            vec!["experiment", "jamming", "--n", "20"],
+            "--n must be at least 53",
+        ),
     ] {
         let out = run("edmd", &args, None);
         let err = String::from_utf8_lossy(&out.stderr);
@@ -825,9 +847,139 @@ fn cooling_refuses_bad_options_in_one_line() {
         (&["--tc", "-1"][..], "--tc"),
         (&["--collisions", "inf"][..], "--collisions"),
         (&["--onset-fraction", "1"][..], "--onset-fraction"),
+        // So close to elastic that the run has no fall of the temperature to fit (t0 was NaN,
+        // fitted over "0-0 collisions").
+        (&["--restitution", "0.9999999999"][..], "at most 0.99999"),
+        (&["--restitution", "0.9999"][..], "at least 6932"),
+        // Echoed as read, not rounded to 18446744073709552000.
+        (
+            &["--collisions", "18446744073709551615"][..],
+            "1.8446744073709552e19",
+        ),
     ] {
         let mut a = vec!["experiment", "cooling"];
         a.extend_from_slice(args);
         refused(&run("edmd", &a, None), &[words]);
+    }
+}
+
+#[test]
+fn an_output_name_taken_by_a_folder_is_refused_before_the_work() {
+    // Each experiment declares the files it will write; a folder of one of those names in
+    // --out-dir would make the writing fail after the whole run, so it is refused first: exit
+    // status 2, one line naming it, nothing written. The names are the last or the computed
+    // ones each experiment writes (a figure per packing, a snapshot per size, a checkpoint).
+    let cases: [(&str, &[&str], &str); 20] = [
+        ("annihilation", &[], "annihilation-lee.svg"),
+        ("barometric", &[], "barometric-packing-0.01.png"),
+        ("billiards", &[], "billiards_binary.csv"),
+        ("brownian", &[], "brownian_msd.png"),
+        ("cooling", &["--n", "500,800"], "cooling-snapshot-800.png"),
+        ("demon", &[], "demon.csv"),
+        ("diffusion", &[], "diffusion_msd.csv"),
+        ("eos", &[], "eos.png"),
+        ("front", &[], "front-shape.svg"),
+        (
+            "hard-disc-transition",
+            &["--packings", "0.7,0.72"],
+            "hard-disc-0.7200.checkpoint",
+        ),
+        ("jamming", &[], "jamming_runs.csv"),
+        ("maxwell", &[], "maxwell.svg"),
+        ("mfp", &[], "mfp_free_time.png"),
+        ("reaction", &[], "prigogine-xhrouet-speeds.csv"),
+        ("reversibility", &[], "reversibility.png"),
+        ("ring", &[], "ring-patch.gif"),
+        ("sheets", &[], "sheets-phase-plane.gif"),
+        ("shoulder", &[], "shoulder-energy.png"),
+        ("square-well", &[], "square-well-z.svg"),
+        ("viscosity", &[], "conductivity.png"),
+    ];
+    for (name, extra, taken) in cases {
+        let dir = tempfile::tempdir().unwrap();
+        std::fs::create_dir(dir.path().join(taken)).unwrap();
+        let mut args = vec!["experiment", name];
+        args.extend_from_slice(extra);
+        args.extend_from_slice(&["--out-dir", dir.path().to_str().unwrap()]);
+        let out = run("edmd", &args, None);
+        refused(&out, &[taken, "is a folder", "--out-dir"]);
+        assert_eq!(names(dir.path()), [taken], "{name}");
+    }
+}
+
+#[test]
+fn a_value_given_twice_in_a_list_option_is_refused() {
+    // Repeated list options add to the list; a value given twice would run the same point
+    // twice and write its files over (barometric wrote one figure three times).
+    let cases: [(&str, &[&str], &str); 10] = [
+        (
+            "barometric",
+            &["--packing", "0.01", "--packing", "0.01,0.01"],
+            "--packing 0.01",
+        ),
+        ("eos", &["--packing", "0.1,0.2,0.1"], "packing fraction 0.1"),
+        (
+            "viscosity",
+            &["--packing", "0.1", "--packing", "0.1"],
+            "packing fraction 0.1",
+        ),
+        ("mfp", &["--packing", "0.3,0.3"], "packing fraction 0.3"),
+        (
+            "ring",
+            &["--restitution", "bridges,bridges"],
+            "--restitution bridges",
+        ),
+        ("cooling", &["--n", "100,100"], "--n 100"),
+        ("reaction", &["--activation", "1,1"], "--activation 1 "),
+        (
+            "reaction",
+            &["--px-activation", "2,2"],
+            "--px-activation 2 ",
+        ),
+        ("jamming", &["--rates", "0.2,0.2"], "--rates 0.2"),
+        ("reversibility", &["--times", "1,1"], "--times 1 "),
+    ];
+    for (name, extra, words) in cases {
+        let dir = tempfile::tempdir().unwrap();
+        let out = dir.path().join("out");
+        let mut args = vec!["experiment", name];
+        args.extend_from_slice(extra);
+        args.extend_from_slice(&["--out-dir", out.to_str().unwrap()]);
+        refused(&run("edmd", &args, None), &[words, "given twice"]);
+        assert!(names(dir.path()).is_empty(), "{name}");
+    }
+}
+
+#[test]
+fn cooling_with_a_huge_tc_reports_it_finite() {
+    // The mean of the runs' tc summed them first, and two 1e308s made it inf.
+    let (v, _dir) = experiment(&[
+        "cooling",
+        "--n",
+        "250",
+        "--runs",
+        "2",
+        "--collisions",
+        "20",
+        "--restitution",
+        "0.8",
+        "--tc",
+        "1e308",
+    ]);
+    let tc = v["rows"][0]["tc"].as_f64().unwrap();
+    assert_eq!(tc, 1e308, "{v}");
+}
+
+#[test]
+fn list_defaults_are_shown_as_the_parser_reads_them() {
+    // Shown space-separated ("[default: 0.05 0.1 ...]"), they could not be pasted back.
+    for (name, shown) in [
+        ("mfp", "[default: 0.05,0.1,0.2,0.3,0.4,0.5]"),
+        ("reversibility", "[default: 0.5,1,2,3,4,6,8,12,16]"),
+        ("reaction", "[default: 0,0.5,1,2,3,4]"),
+        ("reaction", "[default: 1,2,3]"),
+    ] {
+        let help = ok_stdout(&run("edmd", &["experiment", name, "--help"], None));
+        assert!(help.contains(shown), "{name}: {help}");
     }
 }

@@ -164,7 +164,7 @@ fn front_refuses_bad_options_with_one_line_and_writes_nothing() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("out");
     let out = out.to_str().unwrap();
-    let cases: [(&[&str], &[&str]); 11] = [
+    let cases: [(&[&str], &[&str]); 13] = [
         (&["--packing", "0.8"], &["--packing", "0.6"]),
         (&["--packing", "nan"], &["--packing"]),
         (&["--probability", "0"], &["--probability", "above 0"]),
@@ -176,7 +176,16 @@ fn front_refuses_bad_options_with_one_line_and_writes_nothing() {
             &["--length", "60"],
             &["--length", "at least", "decay lengths"],
         ),
-        (&["--until", "0"], &["--until", "above 0"]),
+        (&["--until", "0"], &["--until", "at least"]),
+        // Too short for the diffusion's windows of 2 / r: every result made from D was NaN.
+        (
+            &["--width", "4", "--length", "114", "--until", "5"],
+            &["--until", "6 / r"],
+        ),
+        (
+            &["--probability", "1e-308"],
+            &["--probability", "more than the 100000"],
+        ),
         (&["--until", "-5"], &["--until"]),
         (
             &["--width", "9000", "--length", "9000"],

@@ -148,6 +148,19 @@ fn png_frames_and_a_missing_ffmpeg() {
             ],
             "too many",
         ),
+        (
+            vec![
+                "render",
+                input.to_str().unwrap(),
+                "-o",
+                "x.gif",
+                "--until",
+                "1e308",
+                "--time-scale",
+                "1e-300",
+            ],
+            "over 1e308 frames is too many",
+        ),
     ] {
         let out = run("edmd", &args, None);
         assert_eq!(out.status.code(), Some(2), "{args:?}");

@@ -103,6 +103,10 @@ fn bad_options_are_refused() {
         (vec!["--tau", "1e-9"], "--tau must be from 1e-4"),
         (vec!["--orbits", "0"], "--orbits"),
         (vec!["--bridges-vc", "0"], "--bridges-vc"),
+        (
+            vec!["--bridges-vc", "1e-308"],
+            "--bridges-vc must be from 0.001",
+        ),
     ] {
         let dir = tempfile::tempdir().unwrap();
         let d = dir.path().join("out");
@@ -111,4 +115,34 @@ fn bad_options_are_refused() {
         refused(&run("edmd", &a, None), &[words]);
         assert!(!d.exists(), "nothing written");
     }
+}
+
+#[test]
+fn a_patch_that_collapses_names_the_restitution_that_made_it() {
+    // Perfectly inelastic collisions jam the patch; the clock's stop used to be reported
+    // without the option behind it.
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path().join("out");
+    let out = run(
+        "edmd",
+        &[
+            "experiment",
+            "ring",
+            "--restitution",
+            "0",
+            "--start",
+            "cold",
+            "--out-dir",
+            d.to_str().unwrap(),
+        ],
+        None,
+    );
+    refused(
+        &out,
+        &[
+            "ring: the run with --restitution 0 (cold start) stopped",
+            "clock stopped advancing",
+        ],
+    );
+    assert!(!d.exists(), "nothing written");
 }

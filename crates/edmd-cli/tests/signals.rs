@@ -12,7 +12,7 @@ fn every_long_command_stops_on_sigterm_with_status_130_and_no_temporary_file() {
     let gas = example("gas-300.txt");
     let gas = gas.to_str().unwrap();
     // (what, arguments, what the last line must say, files left in the folder)
-    let cases: [(&str, Vec<&str>, &str, &[&str]); 5] = [
+    let cases: [(&str, Vec<&str>, &str, &[&str]); 6] = [
         (
             "run",
             vec![
@@ -60,6 +60,21 @@ fn every_long_command_stops_on_sigterm_with_status_130_and_no_temporary_file() {
             ],
             "results so far are written",
             &["out"],
+        ),
+        (
+            // Stopped while following the first model's balls: it once said "the results so
+            // far are written (wrote: )".
+            "billiards, stopped before its first result",
+            vec![
+                "experiment",
+                "billiards",
+                "--follow",
+                "1e308",
+                "--out-dir",
+                "out",
+            ],
+            "nothing written",
+            &[],
         ),
         (
             "render",

@@ -58,8 +58,9 @@ pub const PALETTE: [[u8; 3]; 10] = [
 /// What can go wrong when a figure is saved.
 #[derive(Debug, thiserror::Error)]
 pub enum PlotError {
-    /// A file or its folder could not be written.
-    #[error("cannot write {}: {source}", path.display())]
+    /// A file or its folder could not be written. The operating system's reason is the
+    /// error's source, so that a chain of causes printed on one line names it once.
+    #[error("cannot write {}", path.display())]
     Io {
         /// The file (or folder) that could not be written.
         path: PathBuf,

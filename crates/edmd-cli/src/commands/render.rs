@@ -343,9 +343,15 @@ fn render_in<const D: usize>(
         ));
     }
     let span = args.until - t0;
-    let frames = (span * args.fps / args.time_scale).floor() + 1.0;
+    // Divided first, so that a huge span over a huge time scale is not an overflow.
+    let frames = (span / args.time_scale * args.fps).floor() + 1.0;
     if frames.is_nan() || frames > MAX_FRAMES {
-        return user_error(format!("render: {frames:.3e} frames is too many (at most {MAX_FRAMES:.0}): lower --fps or --until, or raise --time-scale"));
+        let count = if frames.is_finite() {
+            format!("{frames:.3e}")
+        } else {
+            "over 1e308".to_string()
+        };
+        return user_error(format!("render: {count} frames is too many (at most {MAX_FRAMES:.0}): lower --fps or --until, or raise --time-scale"));
     }
     let frames = frames as u64;
     let overlaps = if args.allow_overlaps {

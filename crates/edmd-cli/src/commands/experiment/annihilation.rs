@@ -60,7 +60,7 @@ use serde::Serialize;
 
 use super::common::{
     check_count, check_n, check_packings, files_line, interrupted_after, melted_fluid_in, out_dir,
-    report, stop_requested, write_csv, CommonArgs, Progress,
+    outputs, report, stop_requested, write_csv, CommonArgs, Progress,
 };
 
 /// Options of `edmd experiment annihilation`.
@@ -199,7 +199,11 @@ fn mean_and_error(v: &[f64]) -> (f64, f64) {
 /// Runs the experiment.
 pub fn run(args: &AnnihilationArgs) -> Result<()> {
     check(args)?;
-    let dir = out_dir(&args.common)?.to_path_buf();
+    let dir = out_dir(
+        &args.common,
+        &outputs(&["annihilation"], &["annihilation", "annihilation-lee"]),
+    )?
+    .to_path_buf();
     let n = args.n;
     let n0 = number_density(args.packing, 1.0);
     let volume = n as f64 / n0;

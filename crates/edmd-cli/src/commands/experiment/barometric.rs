@@ -37,7 +37,8 @@ use edmd_core::measure::{block_error, Estimate};
 use serde::Serialize;
 
 use super::common::{
-    check_count, check_n, files_line, interrupted_after, out_dir, report, CommonArgs, Progress,
+    check_count, check_n, check_once, files_line, interrupted_after, out_dir, outputs, report,
+    CommonArgs, Progress,
 };
 use run::{Plan, Samples, BLOCKS};
 
@@ -209,6 +210,7 @@ fn check(args: &BarometricArgs, packings: &[f64], n: usize, dim: usize) -> Resul
             "--packing {p} is outside [0.001, {top}] (the floor packing of a fluid column)"
         ));
     }
+    check_once("barometric", "--packing", packings)?;
     check_n("barometric", n, 50)?;
     check_count(
         "barometric",
@@ -524,7 +526,13 @@ fn run_in<const D: usize>(args: &BarometricArgs) -> Result<()> {
         };
         starts.push(discs);
     }
-    let dir = out_dir(&args.common)?;
+    let figures: Vec<String> = packings
+        .iter()
+        .map(|p| format!("barometric-packing-{p}"))
+        .chain(["barometric-temperature".to_string()])
+        .collect();
+    let tables = ["barometric", "barometric-temperature"].map(String::from);
+    let dir = out_dir(&args.common, &outputs(&tables, &figures))?;
     let per_block = (args.samples as usize).div_ceil(BLOCKS);
     let len = (packings.len() * BLOCKS * per_block) as u64;
     let bar = Progress::new(len, "barometric");

@@ -15,7 +15,9 @@ use edmd_core::{Disc, MultiContact, Options, SimBox, Simulation, Vector};
 use edmd_plot::{Figure, Series};
 use serde::Serialize;
 
-use super::common::{files_line, interrupted_after, out_dir, report, write_csv, CommonArgs};
+use super::common::{
+    files_line, interrupted_after, out_dir, outputs, report, write_csv, CommonArgs,
+};
 use edmd::user_error;
 
 /// Options of `edmd experiment billiards`.
@@ -117,7 +119,13 @@ pub fn run(args: &BilliardsArgs) -> Result<()> {
     if !(args.follow.is_finite() && args.follow > 0.0) {
         return user_error("billiards: --follow must be > 0");
     }
-    let dir = out_dir(&args.common)?;
+    let dir = out_dir(
+        &args.common,
+        &outputs(
+            &["billiards_multi", "billiards_binary"],
+            &["billiards_multi", "billiards_binary"],
+        ),
+    )?;
     let (discs, n_rack) = rack(args.rows, args.gap, args.offset);
     let twins = twins(&discs);
     // The cue ball reaches the apex at about (0.6 - 0.15 - 2R) / 0.5.

@@ -14,8 +14,8 @@ use edmd_plot::{Figure, Series};
 use serde::Serialize;
 
 use super::common::{
-    check_n, files_line, interrupted_after, out_dir, report, stop_requested, write_csv, CommonArgs,
-    Progress,
+    check_n, files_line, interrupted_after, out_dir, outputs, report, stop_requested, write_csv,
+    CommonArgs, Progress,
 };
 
 /// Options of `edmd experiment brownian`.
@@ -58,7 +58,21 @@ pub struct Summary {
 
 /// Runs the experiment.
 pub fn run(args: &BrownianArgs) -> Result<()> {
+    // The small discs are placed at random around the big one, which covers at most
+    // MAX_RANDOM_FILL of the unit box.
+    let sizes = Brownian::default();
+    let area = |r: f64| std::f64::consts::PI * r * r;
+    let most = ((edmd_core::setup::placement::MAX_RANDOM_FILL - area(sizes.big_radius))
+        / area(sizes.small_radius))
+    .floor() as usize;
     check_n("brownian", args.n, 1)?;
+    if args.n > most {
+        return edmd::user_error(format!(
+            "brownian: --n must be at most {most}: more small discs than that cover over {}% of the box, more than random placement allows, found {}",
+            100.0 * edmd_core::setup::placement::MAX_RANDOM_FILL,
+            args.n
+        ));
+    }
     super::common::check_count(
         "brownian",
         "samples",
@@ -69,11 +83,14 @@ pub fn run(args: &BrownianArgs) -> Result<()> {
     if !(args.until.is_finite() && args.until > 0.0) || args.samples < 10 {
         return edmd::user_error("brownian: --until must be > 0 and --samples >= 10");
     }
-    let dir = out_dir(&args.common)?;
-    let kind = GenKind::Brownian(Brownian {
-        n: args.n,
-        ..Brownian::default()
-    });
+    let dir = out_dir(
+        &args.common,
+        &outputs(
+            &["brownian_path", "brownian_msd"],
+            &["brownian_path", "brownian_msd"],
+        ),
+    )?;
+    let kind = GenKind::Brownian(Brownian { n: args.n, ..sizes });
     let system = generate(&kind, args.common.seed)
         .or_else(|e| edmd::user_error(format!("brownian: {e}")))?;
     let mut sim = Simulation::new(&system.discs, system.sim_box, Options::default())?;

@@ -29,14 +29,29 @@ pub struct CommonArgs {
 /// The one line an experiment stopped by a signal ends with (exit status
 /// [`edmd::INTERRUPTED_STATUS`]), after it wrote the results so far.
 pub fn interrupted_after(files: &[PathBuf]) -> Result<()> {
+    if files.is_empty() {
+        return edmd::interrupted("interrupted before any result: nothing written");
+    }
     edmd::interrupted(format!(
         "interrupted: the results so far are written ({})",
         files_line(files)
     ))
 }
 
-/// Creates the output folder.
-pub fn out_dir(common: &CommonArgs) -> Result<&Path> {
+/// Creates the output folder, after refusing (exit status 2, before any work) a folder
+/// there with the name of one of `files`, the files the experiment will write in it: the
+/// run's work would otherwise be lost when its results are written at the end.
+pub fn out_dir<'a, S: AsRef<str>>(common: &'a CommonArgs, files: &[S]) -> Result<&'a Path> {
+    for name in files {
+        let path = common.out_dir.join(name.as_ref());
+        if path.is_dir() {
+            return edmd::user_error(format!(
+                "{}: this experiment writes a file of that name, but it is a folder; \
+                 move it or give another --out-dir",
+                path.display()
+            ));
+        }
+    }
     edmd::stop::create_dir_remembered(&common.out_dir).map_err(|e| {
         edmd::UserError(format!(
             "{}: cannot create the output folder: {e}",
@@ -44,6 +59,16 @@ pub fn out_dir(common: &CommonArgs) -> Result<&Path> {
         ))
     })?;
     Ok(&common.out_dir)
+}
+
+/// The names of the files an experiment writes: `stem.csv` for each of `tables` and
+/// `stem.png` and `stem.svg` for each of `figures`.
+pub fn outputs<S: AsRef<str>>(tables: &[S], figures: &[S]) -> Vec<String> {
+    let tables = tables.iter().map(|t| format!("{}.csv", t.as_ref()));
+    let figures = figures
+        .iter()
+        .flat_map(|f| [format!("{}.png", f.as_ref()), format!("{}.svg", f.as_ref())]);
+    tables.chain(figures).collect()
 }
 
 /// A progress bar on standard error, only when it is a terminal.
@@ -93,6 +118,9 @@ pub fn report<T: Serialize>(common: &CommonArgs, summary: &T, human: &str) -> Re
 
 /// Lists the files written, for the human summary.
 pub fn files_line(paths: &[PathBuf]) -> String {
+    if paths.is_empty() {
+        return "nothing written".to_string();
+    }
     let names: Vec<String> = paths.iter().map(|p| p.display().to_string()).collect();
     format!("wrote: {}", names.join(", "))
 }
@@ -188,7 +216,27 @@ pub fn check_packings(name: &str, packings: &[f64], max: f64) -> Result<()> {
             "{name}: packing fraction {p:?} is outside [{MIN_PACKING}, {max})"
         ));
     }
-    Ok(())
+    check_once(name, "packing fraction", packings)
+}
+
+/// Refuses a list option that gives a value twice (`--packing 0.1,0.1`, or the option given
+/// again: repeated list options add to the list): the point would be run twice and its
+/// files written over.
+/// Sorted first, so that a list of a million values is checked at once.
+pub fn check_once<T: PartialOrd + std::fmt::Display>(
+    name: &str,
+    what: &str,
+    values: &[T],
+) -> Result<()> {
+    let mut sorted: Vec<&T> = values.iter().collect();
+    sorted.sort_by(|a, b| a.partial_cmp(b).unwrap_or(std::cmp::Ordering::Equal));
+    match sorted.windows(2).find(|w| w[0] == w[1]) {
+        Some(w) => edmd::user_error(format!(
+            "{name}: {what} {} is given twice; give each once",
+            w[0]
+        )),
+        None => Ok(()),
+    }
 }
 
 /// Checks a disc count: from `min` to [`MAX_N`].

@@ -42,8 +42,8 @@ use edmd_core::measure::theory::{
 use serde::Serialize;
 
 use super::common::{
-    check_count, check_n, check_packings, files_line, interrupted_after, out_dir, report,
-    CommonArgs, Progress,
+    check_count, check_n, check_once, check_packings, files_line, interrupted_after, out_dir,
+    outputs, report, CommonArgs, Progress,
 };
 
 /// Options of `edmd experiment cooling`.
@@ -216,6 +216,7 @@ fn check(args: &CoolingArgs, sizes: &[usize], dim: usize) -> Result<()> {
     for &n in sizes {
         check_n("cooling", n, 100)?;
     }
+    check_once("cooling", "--n", sizes)?;
     check_count("cooling", "runs", args.runs, 2, 1000)?;
     if let Some(tc) = args.tc {
         if !(tc.is_finite() && tc >= 0.0) {
@@ -225,7 +226,7 @@ fn check(args: &CoolingArgs, sizes: &[usize], dim: usize) -> Result<()> {
     if let Some(c) = args.collisions {
         if !(c.is_finite() && (1.0..=MAX_COLLISIONS * 20.0).contains(&c)) {
             return bad(format!(
-                "--collisions must be from 1 to {}, found {c}",
+                "--collisions must be from 1 to {}, found {c:?}",
                 MAX_COLLISIONS * 20.0
             ));
         }
@@ -449,7 +450,8 @@ fn row<const D: usize>(
         n,
         box_length,
         box_lengths: lengths.clone(),
-        tc: runs.iter().map(|r| r.tc).sum::<f64>() / runs.len() as f64,
+        // Each term divided first: a sum of `--tc 1e308`s would overflow.
+        tc: runs.iter().map(|r| r.tc / runs.len() as f64).sum::<f64>(),
         tc_elastic_fraction: elastic as f64 / total.max(1) as f64,
         runs: runs.len(),
         collisions,
@@ -495,10 +497,46 @@ fn run_in<const D: usize>(args: &CoolingArgs) -> Result<()> {
         .clone()
         .unwrap_or_else(|| vec![if D == 3 { 20_000 } else { 10_000 }]);
     check(args, &sizes, D)?;
-    let collisions = args.collisions.unwrap_or_else(|| {
-        ((1e5f64).ln() / haff_decay_per_collision(D, args.restitution)).min(MAX_COLLISIONS)
-    });
-    let dir = out_dir(&args.common)?;
+    let decay = haff_decay_per_collision(D, args.restitution);
+    let collisions = args
+        .collisions
+        .unwrap_or_else(|| ((1e5f64).ln() / decay).min(MAX_COLLISIONS));
+    // Haff's law is fitted to the temperature's fall: a gas that does not even halve its
+    // temperature over the run has no fall to fit (and its first sample, a hundredth of
+    // Haff's time, would come after the run's end).
+    if decay * collisions < 2f64.ln() {
+        let needed = (2f64.ln() / decay).ceil();
+        let remedy = if needed <= MAX_COLLISIONS * 20.0 {
+            format!("give a lower --restitution or more --collisions (at least {needed})")
+        } else {
+            // The restitution at which the most collisions allowed just halve it.
+            let (mut lo, mut hi) = (0.0, 1.0);
+            for _ in 0..60 {
+                let mid = 0.5 * (lo + hi);
+                if haff_decay_per_collision(D, mid) * MAX_COLLISIONS * 20.0 >= 2f64.ln() {
+                    lo = mid;
+                } else {
+                    hi = mid;
+                }
+            }
+            format!(
+                "give a --restitution of at most {} (with --collisions {})",
+                (lo * 1e6).floor() / 1e6,
+                MAX_COLLISIONS * 20.0
+            )
+        };
+        return edmd::user_error(format!(
+            "cooling: --restitution {} would cool the gas by a factor of only {:.6} over {collisions} collisions per particle: {remedy}",
+            args.restitution,
+            (decay * collisions).exp(),
+        ));
+    }
+    let mut names = outputs(
+        &["cooling", "cooling-runs", "cooling-samples"],
+        &["cooling-temperature", "cooling-shear"],
+    );
+    names.extend(sizes.iter().map(|n| format!("cooling-snapshot-{n}.png")));
+    let dir = out_dir(&args.common, &names)?;
     let bar = Progress::new(sizes.len() as u64 * args.runs, "cooling");
     let done = AtomicU64::new(0);
     let mut boxes = Vec::new();

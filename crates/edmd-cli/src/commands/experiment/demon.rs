@@ -16,8 +16,8 @@ use edmd_plot::{Figure, Series};
 use serde::Serialize;
 
 use super::common::{
-    check_n, files_line, interrupted_after, out_dir, report, stop_requested, write_csv, CommonArgs,
-    Progress,
+    check_n, files_line, interrupted_after, out_dir, outputs, report, stop_requested, write_csv,
+    CommonArgs, Progress,
 };
 
 /// Options of `edmd experiment demon`.
@@ -112,9 +112,12 @@ pub fn run(args: &DemonArgs) -> Result<()> {
         1,
         super::common::MAX_SAMPLES as u64,
     )?;
-    if !(args.door > 0.0 && args.door < 1.0) {
+    // A disc goes through only if it touches neither edge of the door: a door no wider than
+    // a disc lets none through.
+    let diameter = 2.0 * Diffusion2::default().radius;
+    if !(args.door > diameter && args.door < 1.0) {
         return edmd::user_error(format!(
-            "demon: --door {} must be between 0 and the box height 1",
+            "demon: --door {} must be wider than a disc (diameter {diameter}) and narrower than the box height 1",
             args.door
         ));
     }
@@ -124,7 +127,7 @@ pub fn run(args: &DemonArgs) -> Result<()> {
     if !(args.until.is_finite() && args.until > 0.0) || args.samples == 0 {
         return edmd::user_error("demon: --until must be > 0 and --samples >= 1");
     }
-    let dir = out_dir(&args.common)?;
+    let dir = out_dir(&args.common, &outputs(&["demon"], &["demon"]))?;
     let kind = GenKind::Diffusion2(Diffusion2 {
         n: args.n,
         ..Diffusion2::default()

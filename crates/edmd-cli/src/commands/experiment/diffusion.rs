@@ -14,8 +14,8 @@ use edmd_plot::{Figure, Series};
 use serde::Serialize;
 
 use super::common::{
-    check_n, files_line, interrupted_after, out_dir, report, stop_requested, write_csv, CommonArgs,
-    Progress,
+    check_n, files_line, interrupted_after, out_dir, outputs, report, stop_requested, write_csv,
+    CommonArgs, Progress,
 };
 
 /// Options of `edmd experiment diffusion`.
@@ -71,7 +71,10 @@ pub fn run(args: &DiffusionArgs) -> Result<()> {
     if !(args.until.is_finite() && args.until > 0.0) || args.samples == 0 {
         return edmd::user_error("diffusion: --until must be > 0 and --samples >= 1");
     }
-    let dir = out_dir(&args.common)?;
+    let dir = out_dir(
+        &args.common,
+        &outputs(&["diffusion", "diffusion_msd"], &["diffusion"]),
+    )?;
     let kind = GenKind::Diffusion2(Diffusion2 {
         n: args.n,
         ..Diffusion2::default()

@@ -19,8 +19,8 @@ use edmd_plot::{Figure, Series};
 use serde::Serialize;
 
 use super::common::{
-    check_n, check_packings, files_line, interrupted_after, melted_fluid_in, out_dir, report,
-    stop_requested, write_csv, CommonArgs, Progress,
+    check_n, check_packings, files_line, interrupted_after, melted_fluid_in, out_dir, outputs,
+    report, stop_requested, write_csv, CommonArgs, Progress,
 };
 
 /// Options of `edmd experiment eos`.
@@ -150,7 +150,7 @@ fn run_in<const D: usize>(args: &EosArgs) -> Result<()> {
     if args.blocks < 2 || args.measure == 0 {
         return edmd::user_error("eos: --blocks must be >= 2 and --collisions >= 1");
     }
-    let dir = out_dir(&args.common)?;
+    let dir = out_dir(&args.common, &outputs(&["eos"], &["eos"]))?;
     let progress = Progress::new((args_packing.len() * args.blocks) as u64, "eos");
     let mut results = Vec::new();
     'packings: for (k, &eta) in args_packing.iter().enumerate() {

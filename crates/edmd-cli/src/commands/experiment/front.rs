@@ -101,7 +101,7 @@ use edmd_core::measure::{linear_fit, theory, Estimate};
 use serde::Serialize;
 
 use super::common::{
-    files_line, interrupted_after, out_dir, report, stop_requested, CommonArgs, Progress,
+    files_line, interrupted_after, out_dir, outputs, report, stop_requested, CommonArgs, Progress,
 };
 use figures::{write_outputs, Lines};
 use frame::{plan, run_front, Run};
@@ -140,7 +140,8 @@ pub struct FrontArgs {
     #[arg(long, default_value_t = 140.0, allow_negative_numbers = true)]
     pub length: f64,
     /// Time the front runs [default: 500 / r, with r = k n the linearised growth rate from
-    /// the line-of-centres law (10 400 at the other defaults), at most 100 000].
+    /// the line-of-centres law (10 400 at the other defaults); at least 6 / r (125), at most
+    /// 100 000].
     #[arg(long, allow_negative_numbers = true)]
     pub until: Option<f64>,
     /// Shared options.
@@ -257,7 +258,13 @@ const THEORY: &str = "speed_kpp = 2 sqrt(D k n), the speed of the pulled front o
 /// Runs the experiment.
 pub fn run(args: &FrontArgs) -> Result<()> {
     let (frame, until) = plan(args)?;
-    let dir = out_dir(&args.common)?;
+    let dir = out_dir(
+        &args.common,
+        &outputs(
+            &["front", "front-profile", "front-shape"],
+            &["front", "front-profile", "front-shape"],
+        ),
+    )?;
     let bar = Progress::new(1000, "front");
     let fit_from = (until / 3.0).min(50.0 / frame.growth);
     let mut k_est = None;

@@ -52,8 +52,8 @@ use edmd_plot::{Figure, Series};
 use serde::{Deserialize, Serialize};
 
 use super::common::{
-    check_count, files_line, interrupted_after, out_dir, report, stop_requested, write_csv,
-    CommonArgs, Progress, MAX_N,
+    check_count, files_line, interrupted_after, out_dir, outputs, report, stop_requested,
+    write_csv, CommonArgs, Progress, MAX_N,
 };
 
 /// Options of `edmd experiment hard-disc-transition`.
@@ -341,7 +341,12 @@ fn cpu_seconds() -> Option<f64> {
 
 /// The checkpoint file of a packing.
 fn checkpoint_path(dir: &Path, packing: f64) -> PathBuf {
-    dir.join(format!("hard-disc-{packing:.4}.checkpoint"))
+    dir.join(checkpoint_name(packing))
+}
+
+/// The name of the checkpoint of the point at `packing`.
+fn checkpoint_name(packing: f64) -> String {
+    format!("hard-disc-{packing:.4}.checkpoint")
 }
 
 /// The side of the square box of `n` discs of diameter 1 at `packing`.
@@ -575,7 +580,9 @@ pub fn run(args: &HardDiscArgs) -> Result<()> {
     let packings = check(args)?;
     let n = args.n_side * args.n_side;
     let nu = n as u64;
-    let dir = out_dir(&args.common)?;
+    let mut names = outputs(&["hard-disc-eos"], &["hard-disc-eos"]);
+    names.extend(packings.iter().map(|&p| checkpoint_name(p)));
+    let dir = out_dir(&args.common, &names)?;
     if !args.resume {
         if let Some(p) = packings
             .iter()

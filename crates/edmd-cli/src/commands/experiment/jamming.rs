@@ -25,8 +25,8 @@ use edmd_plot::{Figure, Series};
 use serde::Serialize;
 
 use super::common::{
-    check_count, check_n, files_line, out_dir, report, stop_requested, write_csv, CommonArgs,
-    Progress,
+    check_count, check_n, check_once, files_line, out_dir, outputs, report, stop_requested,
+    write_csv, CommonArgs, Progress,
 };
 
 /// Options of `edmd experiment jamming`.
@@ -193,6 +193,7 @@ fn run_in<const D: usize>(args: &JammingArgs) -> Result<()> {
     if args.rates.len() > 1000 {
         return edmd::user_error("jamming: at most 1000 growth rates");
     }
+    check_once("jamming", "--rates", &args.rates)?;
     for &rate in &args.rates {
         PackOptions {
             growth_rate: rate,
@@ -215,6 +216,21 @@ fn run_in<const D: usize>(args: &JammingArgs) -> Result<()> {
     sizes
         .validate()
         .or_else(|e| edmd::user_error(e.to_string()))?;
+    // A compression stops with an error once the largest particle has grown to a third of the
+    // periodic box. No packing fraction exceeds 1, so with N at least this the largest
+    // diameter stays below a third of the box: (d_max / L)^D <= max(1, r)^D / (v_D (N_small +
+    // N_large r^D)) with v_D the volume of a ball of diameter 1.
+    let d = D as i32;
+    let unit_ball = edmd_core::setup::lattice::ball_volume(1.0, D);
+    let per_particle = (1.0 - large) + large * ratio.powi(d);
+    let least =
+        (3f64.powi(d) * ratio.max(1.0).powi(d) / (unit_ball * per_particle)).floor() as usize + 2;
+    if args.n < least {
+        return edmd::user_error(format!(
+            "jamming: --n must be at least {least} for these sizes, so that no particle grows to a third of the periodic box, found {}",
+            args.n
+        ));
+    }
     let crystal = args
         .crystal_packing
         .unwrap_or(if D == 3 { 0.66 } else { 0.86 });
@@ -224,7 +240,10 @@ fn run_in<const D: usize>(args: &JammingArgs) -> Result<()> {
             "jamming: --crystal-packing must be above 0 and below 1, found {crystal}"
         ));
     }
-    let dir = out_dir(&args.common)?;
+    let dir = out_dir(
+        &args.common,
+        &outputs(&["jamming", "jamming_runs"], &["jamming"]),
+    )?;
     let total = args.rates.len() as u64 * args.seeds;
     let progress = Progress::new(total, "jamming");
     let mut rows = Vec::new();

@@ -17,8 +17,8 @@ use rand::{Rng, SeedableRng};
 use serde::Serialize;
 
 use super::common::{
-    check_n, check_packings, files_line, interrupted_after, out_dir, report, run_collisions,
-    stop_requested, write_csv, CommonArgs, Progress,
+    check_n, check_packings, files_line, interrupted_after, out_dir, outputs, report,
+    run_collisions, stop_requested, write_csv, CommonArgs, Progress,
 };
 
 /// Options of `edmd experiment maxwell`.
@@ -89,11 +89,8 @@ fn run_in<const D: usize>(args: &MaxwellArgs) -> Result<()> {
     )?;
     check_n("maxwell", args.n, 16)?;
     super::common::check_count("maxwell", "snapshots", args.snapshots as u64, 1, 10_000)?;
-    super::common::check_count("maxwell", "bins", args.bins as u64, 1, 10_000)?;
-    if args.snapshots == 0 || args.bins < 2 {
-        return edmd::user_error("maxwell: --snapshots must be >= 1 and --bins >= 2");
-    }
-    let dir = out_dir(&args.common)?;
+    super::common::check_count("maxwell", "bins", args.bins as u64, 2, 10_000)?;
+    let dir = out_dir(&args.common, &outputs(&["maxwell"], &["maxwell"]))?;
     let (mut discs, bx) =
         lattice_fluid_in::<D>(args.n, args.packing, Boundary::Periodic, args.common.seed)
             .or_else(|e| edmd::user_error(format!("maxwell: {e}")))?;

@@ -18,8 +18,8 @@ use edmd_plot::{Figure, Series};
 use serde::Serialize;
 
 use super::common::{
-    check_n, check_packings, files_line, interrupted_after, melted_fluid_in, out_dir, report,
-    stop_requested, write_csv, CommonArgs, Progress,
+    check_n, check_packings, files_line, interrupted_after, melted_fluid_in, out_dir, outputs,
+    report, stop_requested, write_csv, CommonArgs, Progress,
 };
 
 /// Options of `edmd experiment mfp`.
@@ -30,7 +30,12 @@ pub struct MfpArgs {
     pub dim: usize,
     /// Packing fractions, comma-separated; histograms are drawn for the first (spheres: at
     /// most 0.50).
-    #[arg(long, value_delimiter = ',', default_values_t = vec![0.05, 0.1, 0.2, 0.3, 0.4, 0.5], allow_negative_numbers = true)]
+    #[arg(
+        long,
+        value_delimiter = ',',
+        default_value = "0.05,0.1,0.2,0.3,0.4,0.5",
+        allow_negative_numbers = true
+    )]
     pub packing: Vec<f64>,
     /// Number of discs.
     #[arg(long, default_value_t = 1000, allow_negative_numbers = true)]
@@ -110,7 +115,13 @@ fn run_in<const D: usize>(args: &MfpArgs) -> Result<()> {
     )?;
     check_n("mfp", args.n, 16)?;
     super::common::check_count("mfp", "collisions", args.measure, 1, 100_000)?;
-    let dir = out_dir(&args.common)?;
+    let dir = out_dir(
+        &args.common,
+        &outputs(
+            &["mfp", "mfp_free_path", "mfp_free_time"],
+            &["mfp", "mfp_free_path", "mfp_free_time"],
+        ),
+    )?;
     let progress = Progress::new(args.packing.len() as u64, "mfp");
     let mut results = Vec::new();
     let mut files = Vec::new();

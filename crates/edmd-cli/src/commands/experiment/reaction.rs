@@ -74,8 +74,8 @@ use clap::Args;
 use serde::Serialize;
 
 use super::common::{
-    check_count, check_n, check_packings, interrupted_after, out_dir, report, stop_requested,
-    CommonArgs, Progress,
+    check_count, check_n, check_once, check_packings, interrupted_after, out_dir, outputs, report,
+    stop_requested, CommonArgs, Progress,
 };
 
 mod equilibrium;
@@ -94,7 +94,12 @@ pub struct ReactionArgs {
     #[arg(long, value_parser = crate::args::parse_dim)]
     pub dim: Option<usize>,
     /// Activation energies E*/kT of the equilibrium runs, comma-separated (each from 0 to 10).
-    #[arg(long, value_delimiter = ',', default_values_t = vec![0.0, 0.5, 1.0, 2.0, 3.0, 4.0], allow_negative_numbers = true)]
+    #[arg(
+        long,
+        value_delimiter = ',',
+        default_value = "0,0.5,1,2,3,4",
+        allow_negative_numbers = true
+    )]
     pub activation: Vec<f64>,
     /// Packing fractions of the equilibrium runs, comma-separated; the lowest is also the
     /// Prigogine-Xhrouet run's [default: discs 0.05,0.6; spheres 0.05,0.4].
@@ -112,7 +117,12 @@ pub struct ReactionArgs {
     pub runs: u64,
     /// Activation energies E*/kT of the Prigogine-Xhrouet runs (A + A -> B + B in a closed
     /// box), comma-separated (each above 0, at most 6).
-    #[arg(long = "px-activation", value_delimiter = ',', default_values_t = vec![1.0, 2.0, 3.0], allow_negative_numbers = true)]
+    #[arg(
+        long = "px-activation",
+        value_delimiter = ',',
+        default_value = "1,2,3",
+        allow_negative_numbers = true
+    )]
     pub px_activation: Vec<f64>,
     /// Discs (spheres) in each Prigogine-Xhrouet run.
     #[arg(long = "px-n", default_value_t = 20_000, allow_negative_numbers = true)]
@@ -163,7 +173,20 @@ pub fn run(args: &ReactionArgs) -> Result<()> {
         None => vec![2, 3],
     };
     check(args, &dims)?;
-    let dir = out_dir(&args.common)?.to_path_buf();
+    let dir = out_dir(
+        &args.common,
+        &outputs(
+            &["reaction", "prigogine-xhrouet", "prigogine-xhrouet-speeds"],
+            &[
+                "reaction",
+                "reaction-ratio",
+                "reaction-rate",
+                "prigogine-xhrouet",
+                "prigogine-xhrouet-speeds",
+            ],
+        ),
+    )?
+    .to_path_buf();
     let steps: usize = dims
         .iter()
         .map(|&d| {
@@ -266,6 +289,7 @@ fn check(args: &ReactionArgs, dims: &[usize]) -> Result<()> {
             "--activation {a} is outside [0, 10] (activation energies in units of kT)"
         ));
     }
+    check_once("reaction", "--activation", &args.activation)?;
     if args.px_activation.is_empty() {
         return bad("give at least one activation energy (--px-activation)".into());
     }
@@ -279,6 +303,7 @@ fn check(args: &ReactionArgs, dims: &[usize]) -> Result<()> {
             "--px-activation {a} must be above 0 and at most 6 (activation energies in units of kT)"
         ));
     }
+    check_once("reaction", "--px-activation", &args.px_activation)?;
     for &dim in dims {
         // Fluid: below freezing, 0.70 for discs; spheres up to 0.50 (the generator makes 0.50).
         let max = if dim == 3 { 0.500_000_1 } else { 0.70 };

@@ -15,8 +15,8 @@ use edmd_plot::{Figure, Series};
 use serde::Serialize;
 
 use super::common::{
-    files_line, interrupted_after, out_dir, report, run_collisions, stop_requested, write_csv,
-    CommonArgs, Progress,
+    check_n, check_once, check_packings, files_line, interrupted_after, out_dir, outputs, report,
+    run_collisions, stop_requested, write_csv, CommonArgs, Progress,
 };
 use edmd::user_error;
 
@@ -30,7 +30,12 @@ pub struct ReversibilityArgs {
     #[arg(long, default_value_t = 0.3, allow_negative_numbers = true)]
     pub packing: f64,
     /// Forward run lengths (simulated time), comma-separated.
-    #[arg(long, value_delimiter = ',', default_values_t = vec![0.5, 1.0, 2.0, 3.0, 4.0, 6.0, 8.0, 12.0, 16.0], allow_negative_numbers = true)]
+    #[arg(
+        long,
+        value_delimiter = ',',
+        default_value = "0.5,1,2,3,4,6,8,12,16",
+        allow_negative_numbers = true
+    )]
     pub times: Vec<f64>,
     /// Shared options.
     #[command(flatten)]
@@ -72,7 +77,13 @@ pub fn run(args: &ReversibilityArgs) -> Result<()> {
     if args.times.iter().any(|t| !(t.is_finite() && *t > 0.0)) {
         return user_error("reversibility: every --times value must be a number > 0");
     }
-    let dir = out_dir(&args.common)?;
+    check_once("reversibility", "--times", &args.times)?;
+    check_n("reversibility", args.n, 2)?;
+    check_packings("reversibility", &[args.packing], 0.70)?;
+    let dir = out_dir(
+        &args.common,
+        &outputs(&["reversibility"], &["reversibility"]),
+    )?;
     let (discs, bx) = lattice_fluid(args.n, args.packing, Boundary::Walls, args.common.seed)
         .or_else(|e| user_error(format!("reversibility: {e}")))?;
     // Start from a melted state, not the lattice.

@@ -33,7 +33,7 @@ use edmd_plot::{Figure, Series, PALETTE};
 use serde::Serialize;
 
 use super::common::{
-    check_count, check_n, files_line, interrupted_after, out_dir, report, stop_requested,
+    check_count, check_n, files_line, interrupted_after, out_dir, outputs, report, stop_requested,
     write_csv, CommonArgs, Progress,
 };
 
@@ -134,7 +134,12 @@ pub fn run(args: &SheetsArgs) -> Result<()> {
     check_count("sheets", "time", args.time, 2, 100_000)?;
     check_count("sheets", "bath-time", args.bath_time, 4, 100_000)?;
     check_count("sheets", "frames", args.frames, 1, 10_000)?;
-    let dir = out_dir(&args.common)?;
+    let mut names = outputs(
+        &["sheets-virial", "sheets-profile"],
+        &["sheets-virial", "sheets-profile"],
+    );
+    names.push("sheets-phase-plane.gif".to_string());
+    let dir = out_dir(&args.common, &names)?;
     let mut files = Vec::new();
     let isolated = isolated(args, dir, &mut files)?;
     let bath = match &isolated {

@@ -26,11 +26,10 @@ use rand::SeedableRng;
 use serde::Serialize;
 
 use super::common::{
-    files_line, interrupted_after, out_dir, report, write_csv, CommonArgs, Progress,
+    check_once, files_line, interrupted_after, out_dir, outputs, report, write_csv, CommonArgs,
+    Progress,
 };
-use super::square_well::{
-    check_bath, check_start, given_twice, measure_in_bath, particle_volume, Bath,
-};
+use super::square_well::{check_bath, check_start, measure_in_bath, particle_volume, Bath};
 
 /// Options of `edmd experiment shoulder`.
 #[derive(Debug, Args)]
@@ -210,9 +209,7 @@ fn run_in<const D: usize>(args: &ShoulderArgs) -> Result<()> {
     if densities.is_empty() {
         return bad("give at least one density".into());
     }
-    if let Some(r) = given_twice(&densities) {
-        return bad(format!("density {r} is given twice"));
-    }
+    check_once("shoulder", "density", &densities)?;
     if let Some(r) = densities
         .iter()
         .find(|&&r| !(r.is_finite() && r >= 0.05 && r < 0.99 * close))
@@ -274,7 +271,10 @@ fn run_in<const D: usize>(args: &ShoulderArgs) -> Result<()> {
         let (discs, bx) = start_at(k, rho, start)?;
         check_start(&format!("shoulder: density {rho}"), &discs, bx, &potential)?;
     }
-    let dir = out_dir(&args.common)?;
+    let dir = out_dir(
+        &args.common,
+        &outputs(&["shoulder"], &["shoulder-pressure", "shoulder-energy"]),
+    )?;
     let bar = Progress::new(plan.len() as u64, "shoulder");
     let mut rows = Vec::new();
     let mut n_crystal = 0;

@@ -28,7 +28,8 @@ use edmd_plot::{Figure, Series};
 use serde::Serialize;
 
 use super::common::{
-    files_line, interrupted_after, out_dir, report, write_csv, CommonArgs, Progress,
+    check_once, files_line, interrupted_after, out_dir, outputs, report, write_csv, CommonArgs,
+    Progress,
 };
 
 /// Options of `edmd experiment square-well`.
@@ -154,9 +155,7 @@ fn check(args: &SquareWellArgs, densities: &[f64], n: usize, max_density: f64) -
     if densities.is_empty() {
         return bad("give at least one density".into());
     }
-    if let Some(r) = given_twice(densities) {
-        return bad(format!("density {r} is given twice"));
-    }
+    check_once("square-well", "density", densities)?;
     let min = edmd_core::setup::MIN_PACKING / edmd_core::setup::lattice::ball_volume(1.0, args.dim);
     if let Some(r) = densities
         .iter()
@@ -173,14 +172,6 @@ fn check(args: &SquareWellArgs, densities: &[f64], n: usize, max_density: f64) -
 }
 
 /// A value that `values` holds more than once.
-pub(super) fn given_twice(values: &[f64]) -> Option<f64> {
-    values
-        .iter()
-        .enumerate()
-        .find(|&(k, v)| values[..k].contains(v))
-        .map(|(_, &v)| v)
-}
-
 /// Checks the options of a run in the bath (`--precision`, `--max-blocks`, `--rate`) for
 /// the experiment `name`.
 pub(super) fn check_bath(name: &str, precision: f64, max_blocks: usize, rate: f64) -> Result<()> {
@@ -422,7 +413,10 @@ fn run_in<const D: usize>(args: &SquareWellArgs) -> Result<()> {
         let (what, discs, bx) = start::<D>(n, rho, args.common.seed + k as u64)?;
         check_start(&what, &discs, bx, &potential)?;
     }
-    let dir = out_dir(&args.common)?;
+    let dir = out_dir(
+        &args.common,
+        &outputs(&["square-well"], &["square-well-z", "square-well-energy"]),
+    )?;
     let bar = Progress::new(densities.len() as u64, "square-well");
     let mut rows = Vec::new();
     for (k, &rho) in densities.iter().enumerate() {

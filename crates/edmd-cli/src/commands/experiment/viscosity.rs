@@ -45,7 +45,7 @@ use serde::Serialize;
 
 use super::common::{
     check_count, check_n, check_packings, files_line, interrupted_after, melted_fluid_in, out_dir,
-    report, stop_requested, write_csv, CommonArgs, Progress,
+    outputs, report, stop_requested, write_csv, CommonArgs, Progress,
 };
 
 /// Options of `edmd experiment viscosity`.
@@ -194,7 +194,10 @@ fn run_in<const D: usize>(args: &ViscosityArgs) -> Result<()> {
             args.shear_rate
         ));
     }
-    let dir = out_dir(&args.common)?;
+    let dir = out_dir(
+        &args.common,
+        &outputs(&["viscosity"], &["viscosity", "conductivity"]),
+    )?;
     let progress = Progress::new((packings.len() * args.blocks) as u64, "viscosity");
     let mut results = Vec::new();
     'packings: for (k, &phi) in packings.iter().enumerate() {

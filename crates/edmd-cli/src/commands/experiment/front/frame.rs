@@ -107,6 +107,11 @@ pub(super) fn plan(args: &FrontArgs) -> Result<(Frame, f64)> {
     let zone = shift + whole_bins((8.0 * xi).max(8.0));
     let least = home + shift + reach + zone;
     let length = (args.length / BIN).round() * BIN;
+    if least > 100_000.0 {
+        return bad(format!(
+            "--probability and --activation make the front's leading edge decay over xi = {xi:.2} diameters, and the box must be 38 of them long, more than the 100000 diameters allowed: give a larger --probability or a smaller --activation"
+        ));
+    }
     if length < least {
         return bad(format!(
             "--length must be at least {least} for this packing, probability and activation (38 decay lengths xi = {xi:.2} of the front's leading edge), found {}",
@@ -119,10 +124,18 @@ pub(super) fn plan(args: &FrontArgs) -> Result<(Frame, f64)> {
             "the box holds {n} discs, more than {MAX_N}: make --length or --width smaller"
         ));
     }
-    let until = args.until.unwrap_or((500.0 / growth).min(1e5));
-    if !(until.is_finite() && until > 0.0 && until <= 1e5) {
+    // The diffusion coefficient is measured over windows of 2 / r: a front run shorter than
+    // three of them leaves D, and all the theory made from it, without a value.
+    let least_until = 6.0 / growth;
+    if least_until > 1e5 {
         return bad(format!(
-            "--until must be above 0 and at most 100000, found {until}"
+            "--probability and --activation make the front grow at r = k n = {growth:.3e} per unit time, so slowly that it needs --until of at least 6 / r = {least_until:.3e}, more than the 100000 allowed: give a larger --probability or a smaller --activation"
+        ));
+    }
+    let until = args.until.unwrap_or((500.0 / growth).min(1e5));
+    if !(until.is_finite() && until >= least_until && until <= 1e5) {
+        return bad(format!(
+            "--until must be at least 6 / r = {least_until:.1} (r = k n = {growth:.4}, the front's growth rate: diffusion is measured over windows of 2 / r) and at most 100000, found {until}"
         ));
     }
     Ok((
