@@ -323,12 +323,10 @@ pub(super) fn measure_in_bath<const D: usize>(
 }
 
 /// The start at one density: its name in messages, the fluid and its box.
-#[allow(clippy::type_complexity)]
-fn start<const D: usize>(
-    n: usize,
-    rho: f64,
-    seed: u64,
-) -> Result<(String, Vec<edmd_core::Disc<D>>, edmd_core::SimBox<D>)> {
+type Start<const D: usize> = (String, Vec<edmd_core::Disc<D>>, edmd_core::SimBox<D>);
+
+/// The start at density `rho`.
+fn start<const D: usize>(n: usize, rho: f64, seed: u64) -> Result<Start<D>> {
     let what = format!("square-well: density {rho}");
     let (discs, bx) =
         lattice_fluid_in::<D>(n, rho * particle_volume::<D>(), Boundary::Periodic, seed)
@@ -336,10 +334,11 @@ fn start<const D: usize>(
     Ok((what, discs, bx))
 }
 
-/// What one density gave, or `None` if a stop was requested.
+/// What one density gave from its start, or `None` if a stop was requested.
 fn measure<const D: usize>(
     args: &SquareWellArgs,
-    n: usize,
+    potential: &Potential,
+    (what, discs, bx): &Start<D>,
     rho: f64,
     seed: u64,
 ) -> Result<Option<Row>> {
@@ -347,15 +346,13 @@ fn measure<const D: usize>(
         radius: args.lambda,
         energy: -1.0,
     }];
-    let potential = Potential::single(0, 0, args.lambda, -1.0);
-    let (what, discs, bx) = start::<D>(n, rho, seed)?;
     let bath = Bath {
         kt: args.kt,
         rate: args.rate,
         precision: args.precision,
         max_blocks: args.max_blocks,
     };
-    let Some(m) = measure_in_bath::<D>(&what, &discs, bx, &potential, &bath, seed)? else {
+    let Some(m) = measure_in_bath::<D>(what, discs, *bx, potential, &bath, seed)? else {
         return Ok(None);
     };
     let eos = (D == 3)
@@ -409,9 +406,12 @@ fn run_in<const D: usize>(args: &SquareWellArgs) -> Result<()> {
     let max_density = if D == 3 { 0.9 } else { 0.85 };
     check(args, &densities, n, max_density)?;
     let potential = Potential::single(0, 0, args.lambda, -1.0);
+    // Every start is made and checked before the first density runs.
+    let mut starts = Vec::with_capacity(densities.len());
     for (k, &rho) in densities.iter().enumerate() {
-        let (what, discs, bx) = start::<D>(n, rho, args.common.seed + k as u64)?;
-        check_start(&what, &discs, bx, &potential)?;
+        let s = start::<D>(n, rho, args.common.seed + k as u64)?;
+        check_start(&s.0, &s.1, s.2, &potential)?;
+        starts.push(s);
     }
     let dir = out_dir(
         &args.common,
@@ -419,8 +419,8 @@ fn run_in<const D: usize>(args: &SquareWellArgs) -> Result<()> {
     )?;
     let bar = Progress::new(densities.len() as u64, "square-well");
     let mut rows = Vec::new();
-    for (k, &rho) in densities.iter().enumerate() {
-        match measure::<D>(args, n, rho, args.common.seed + k as u64)? {
+    for (k, (&rho, s)) in densities.iter().zip(&starts).enumerate() {
+        match measure::<D>(args, &potential, s, rho, args.common.seed + k as u64)? {
             Some(row) => rows.push(row),
             None => break,
         }
