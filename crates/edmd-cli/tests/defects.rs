@@ -405,7 +405,7 @@ fn unbounded_options_are_refused() {
                 "--out-dir",
                 d,
             ],
-            "--samples must be from 10 to 1000000",
+            "--samples must be from 40 to 100000",
         ),
         (
             &["gen", "dense", "--n", "1", "-o", fs],

@@ -350,7 +350,7 @@ fn generators_take_their_options_and_refuse_the_impossible() {
         // Once "brownian: brownian: the discs would cover 197.1% ... use fewer or smaller discs".
         (
             vec!["experiment", "brownian", "--n", "100000"],
-            "brownian: --n must be at most 19971",
+            "brownian: --n must be from 1 to 19971",
         ),
         (
             vec!["experiment", "maxwell", "--bins", "1"],
@@ -362,7 +362,7 @@ fn generators_take_their_options_and_refuse_the_impossible() {
         ),
         (
             vec!["experiment", "jamming", "--n", "20"],
-            "--n must be at least 53",
+            "--n must be from 53",
         ),
     ] {
         let out = run("edmd", &args, None);
@@ -905,6 +905,28 @@ fn an_output_name_taken_by_a_folder_is_refused_before_the_work() {
         refused(&out, &[taken, "is a folder", "--out-dir"]);
         assert_eq!(names(dir.path()), [taken], "{name}");
     }
+    // A link to nowhere in a file's place, an --out-dir that is a file, and one inside a
+    // file: found at the start, not when the results are written.
+    let dir = tempfile::tempdir().unwrap();
+    std::os::unix::fs::symlink("/nonexistent/x", dir.path().join("eos.png")).unwrap();
+    let d = dir.path().to_str().unwrap();
+    refused(
+        &run("edmd", &["experiment", "eos", "--out-dir", d], None),
+        &["eos.png", "a link to a place that does not exist"],
+    );
+    let file = dir.path().join("a-file");
+    std::fs::write(&file, "x").unwrap();
+    let f = file.to_str().unwrap();
+    refused(
+        &run("edmd", &["experiment", "eos", "--out-dir", f], None),
+        &["--out-dir is not a folder"],
+    );
+    let inside = format!("{f}/sub");
+    refused(
+        &run("edmd", &["experiment", "eos", "--out-dir", &inside], None),
+        &["--out-dir cannot be made"],
+    );
+    assert_eq!(names(dir.path()), ["a-file", "eos.png"]);
 }
 
 #[test]

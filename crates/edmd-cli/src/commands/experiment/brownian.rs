@@ -14,8 +14,8 @@ use edmd_plot::{Figure, Series};
 use serde::Serialize;
 
 use super::common::{
-    check_n, files_line, interrupted_after, out_dir, outputs, report, stop_requested, write_csv,
-    CommonArgs, Progress,
+    files_line, interrupted_after, out_dir, outputs, report, stop_requested, write_csv, CommonArgs,
+    Progress,
 };
 
 /// Options of `edmd experiment brownian`.
@@ -65,23 +65,12 @@ pub fn run(args: &BrownianArgs) -> Result<()> {
     let most = ((edmd_core::setup::placement::MAX_RANDOM_FILL - area(sizes.big_radius))
         / area(sizes.small_radius))
     .floor() as usize;
-    check_n("brownian", args.n, 1)?;
-    if args.n > most {
-        return edmd::user_error(format!(
-            "brownian: --n must be at most {most}: more small discs than that cover over {}% of the box, more than random placement allows, found {}",
-            100.0 * edmd_core::setup::placement::MAX_RANDOM_FILL,
-            args.n
-        ));
-    }
-    super::common::check_count(
-        "brownian",
-        "samples",
-        args.samples as u64,
-        10,
-        super::common::MAX_SAMPLES as u64,
-    )?;
-    if !(args.until.is_finite() && args.until > 0.0) || args.samples < 10 {
-        return edmd::user_error("brownian: --until must be > 0 and --samples >= 10");
+    super::common::check_count("brownian", "n", args.n as u64, 1, most as u64)?;
+    // The time-lag MSD averages every pair of samples up to a quarter of the path apart (a
+    // cost of samples^2 / 4, a few seconds at the most allowed); its fit needs some lags.
+    super::common::check_count("brownian", "samples", args.samples as u64, 40, 100_000)?;
+    if !(args.until.is_finite() && args.until > 0.0) {
+        return edmd::user_error("brownian: --until must be > 0");
     }
     let dir = out_dir(
         &args.common,

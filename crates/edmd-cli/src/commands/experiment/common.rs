@@ -38,12 +38,26 @@ pub fn interrupted_after(files: &[PathBuf]) -> Result<()> {
     ))
 }
 
-/// Creates the output folder, after refusing (exit status 2, before any work) a folder
-/// there with the name of one of `files`, the files the experiment will write in it: the
-/// run's work would otherwise be lost when its results are written at the end.
+/// Creates the output folder, after refusing (exit status 2, before any work) what would
+/// make writing the results fail at the end, when the run's work would be lost: a `--out-dir`
+/// that is not a folder, one of `files` (the files the experiment will write in it) that is a
+/// folder or a link to a place that does not exist, and a folder that cannot be written (a
+/// file is made in it and removed again).
 pub fn out_dir<'a, S: AsRef<str>>(common: &'a CommonArgs, files: &[S]) -> Result<&'a Path> {
+    let dir = &common.out_dir;
+    let refuse = |why: String| {
+        anyhow::Error::from(edmd::UserError(format!(
+            "{}: --out-dir {why}",
+            dir.display()
+        )))
+    };
+    if dir.symlink_metadata().is_ok() && !dir.is_dir() {
+        return Err(refuse(
+            "is not a folder (a file, or a link to nothing); give a folder".into(),
+        ));
+    }
     for name in files {
-        let path = common.out_dir.join(name.as_ref());
+        let path = dir.join(name.as_ref());
         if path.is_dir() {
             return edmd::user_error(format!(
                 "{}: this experiment writes a file of that name, but it is a folder; \
@@ -51,14 +65,26 @@ pub fn out_dir<'a, S: AsRef<str>>(common: &'a CommonArgs, files: &[S]) -> Result
                 path.display()
             ));
         }
+        if path.symlink_metadata().is_ok_and(|m| m.is_symlink()) && !path.exists() {
+            return edmd::user_error(format!(
+                "{}: this experiment writes a file of that name, but it is a link to a place that does not exist; \
+                 remove it or give another --out-dir",
+                path.display()
+            ));
+        }
     }
-    edmd::stop::create_dir_remembered(&common.out_dir).map_err(|e| {
-        edmd::UserError(format!(
-            "{}: cannot create the output folder: {e}",
-            common.out_dir.display()
-        ))
-    })?;
-    Ok(&common.out_dir)
+    edmd::stop::create_dir_remembered(dir).map_err(|e| refuse(format!("cannot be made: {e}")))?;
+    let probe = dir.join(format!(".edmd-probe-{}.tmp", std::process::id()));
+    match std::fs::File::create(&probe) {
+        Ok(_) => {
+            let _ = std::fs::remove_file(&probe);
+        }
+        Err(e) => {
+            edmd::stop::remove_created_dirs();
+            return Err(refuse(format!("cannot be written in: {e}")));
+        }
+    }
+    Ok(dir)
 }
 
 /// The names of the files an experiment writes: `stem.csv` for each of `tables` and
@@ -212,9 +238,13 @@ pub fn check_packings(name: &str, packings: &[f64], max: f64) -> Result<()> {
         return edmd::user_error(format!("{name}: give at least one packing fraction"));
     }
     if let Some(p) = packings.iter().find(|&&p| !(p >= MIN_PACKING && p < max)) {
-        return edmd::user_error(format!(
-            "{name}: packing fraction {p:?} is outside [{MIN_PACKING}, {max})"
-        ));
+        // A bound a hair above 0.5 stands for "at most 0.5" (the sphere generator makes 0.50).
+        let range = if (max - 0.5).abs() < 1e-6 {
+            format!("[{MIN_PACKING}, 0.5]")
+        } else {
+            format!("[{MIN_PACKING}, {max})")
+        };
+        return edmd::user_error(format!("{name}: packing fraction {p:?} is outside {range}"));
     }
     check_once(name, "packing fraction", packings)
 }
@@ -257,4 +287,14 @@ pub fn check_count(name: &str, flag: &str, value: u64, min: u64, max: u64) -> Re
         ));
     }
     Ok(())
+}
+
+/// The most discs on each side of the partition of `demon` and `diffusion` (the generator's
+/// two-species box of Princeton's discs, radius 0.005): more than that cover over
+/// [`edmd_core::setup::placement::MAX_RANDOM_FILL`] of their half of the unit box, more than
+/// random placement allows.
+pub fn most_per_side() -> usize {
+    let r = edmd_core::setup::generators::Diffusion2::default().radius;
+    (edmd_core::setup::placement::MAX_RANDOM_FILL * 0.5 / (std::f64::consts::PI * r * r)).floor()
+        as usize
 }

@@ -226,8 +226,14 @@ fn check(args: &CoolingArgs, sizes: &[usize], dim: usize) -> Result<()> {
     if let Some(c) = args.collisions {
         if !(c.is_finite() && (1.0..=MAX_COLLISIONS * 20.0).contains(&c)) {
             return bad(format!(
-                "--collisions must be from 1 to {}, found {c:?}",
-                MAX_COLLISIONS * 20.0
+                "--collisions must be from 1 to {}, found {}",
+                MAX_COLLISIONS * 20.0,
+                // Past 1e15 in exponent form: 2^64 - 1 read as a float is not what was typed.
+                if c.abs() < 1e15 {
+                    c.to_string()
+                } else {
+                    format!("{c:e}")
+                }
             ));
         }
     }

@@ -16,8 +16,8 @@ use edmd_plot::{Figure, Series};
 use serde::Serialize;
 
 use super::common::{
-    check_n, files_line, interrupted_after, out_dir, outputs, report, stop_requested, write_csv,
-    CommonArgs, Progress,
+    files_line, interrupted_after, out_dir, outputs, report, stop_requested, write_csv, CommonArgs,
+    Progress,
 };
 
 /// Options of `edmd experiment demon`.
@@ -104,7 +104,13 @@ fn sides(sim: &Simulation, x0: f64) -> ([f64; 2], [usize; 2]) {
 
 /// Runs the experiment.
 pub fn run(args: &DemonArgs) -> Result<()> {
-    check_n("demon", args.n, 2)?;
+    super::common::check_count(
+        "demon",
+        "n",
+        args.n as u64,
+        2,
+        super::common::most_per_side() as u64,
+    )?;
     super::common::check_count(
         "demon",
         "samples",

@@ -14,8 +14,8 @@ use edmd_plot::{Figure, Series};
 use serde::Serialize;
 
 use super::common::{
-    check_n, files_line, interrupted_after, out_dir, outputs, report, stop_requested, write_csv,
-    CommonArgs, Progress,
+    files_line, interrupted_after, out_dir, outputs, report, stop_requested, write_csv, CommonArgs,
+    Progress,
 };
 
 /// Options of `edmd experiment diffusion`.
@@ -60,7 +60,13 @@ pub struct Summary {
 
 /// Runs the experiment.
 pub fn run(args: &DiffusionArgs) -> Result<()> {
-    check_n("diffusion", args.n, 2)?;
+    super::common::check_count(
+        "diffusion",
+        "n",
+        args.n as u64,
+        2,
+        super::common::most_per_side() as u64,
+    )?;
     super::common::check_count(
         "diffusion",
         "samples",

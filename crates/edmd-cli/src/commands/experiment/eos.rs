@@ -44,6 +44,7 @@ pub struct EosArgs {
     #[arg(
         long = "collisions",
         alias = "measure",
+        value_name = "COLLISIONS",
         default_value_t = 200,
         allow_negative_numbers = true
     )]
@@ -143,7 +144,16 @@ fn run_in<const D: usize>(args: &EosArgs) -> Result<()> {
     } else {
         check_packings("eos", args_packing, 0.70)?;
     }
-    check_n("eos", args.n, 16)?;
+    // The sphere generator makes fluids of at least MIN_FLUID_DISCS.
+    check_n(
+        "eos",
+        args.n,
+        if D == 3 {
+            edmd_core::setup::fluid::MIN_FLUID_DISCS
+        } else {
+            16
+        },
+    )?;
     super::common::check_count("eos", "collisions", args.measure, 1, 100_000)?;
     super::common::check_count("eos", "melt", args.melt, 0, 100_000)?;
     super::common::check_count("eos", "blocks", args.blocks as u64, 2, 10_000)?;

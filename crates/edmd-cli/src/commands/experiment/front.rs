@@ -302,7 +302,14 @@ pub fn run(args: &FrontArgs) -> Result<()> {
     let v_kpp = 2.0 * (d * r).sqrt();
     let rel = 0.5 * ((d_err / d).powi(2) + (k_err / k).powi(2)).sqrt();
     let n_bd = n * frame.width * xi;
-    let v_bd = v_kpp * (1.0 - std::f64::consts::PI.powi(2) / (2.0 * n_bd.ln().powi(2)));
+    // An asymptote in large N: below N = exp(pi / sqrt 2), about 9, its correction passes the
+    // whole speed and the formula says nothing (null in the JSON, an empty cell in the CSV).
+    let bd_factor = 1.0 - std::f64::consts::PI.powi(2) / (2.0 * n_bd.ln().powi(2));
+    let v_bd = if n_bd > 1.0 && bd_factor > 0.0 {
+        v_kpp * bd_factor
+    } else {
+        f64::NAN
+    };
     let k_loc = args.probability
         * theory::line_of_centres_rate_constant(args.packing, 1.0, 1.0, 1.0, 2, args.activation);
     let (wave, wave_width) = kpp_wave();
@@ -399,12 +406,19 @@ pub fn run(args: &FrontArgs) -> Result<()> {
         "  front speed (A mass)           {v:.4} ± {v_err:.4}\n  front speed (A fraction 1/2)   {v_half:.4} ± {v_half_err:.4}\n"
     );
     human += &format!(
-        "  Fisher-KPP 2 sqrt(D k n)       {v_kpp:.4} ± {:.4}   measured / KPP {:.3}\n  Brunet-Derrida, N = {n_bd:<8.0}   {v_bd:.4} ± {:.4}   measured / BD {:.3}\n",
+        "  Fisher-KPP 2 sqrt(D k n)       {v_kpp:.4} ± {:.4}   measured / KPP {:.3}\n",
         row.speed_kpp_error,
         v / v_kpp,
-        row.speed_brunet_derrida_error,
-        v / v_bd
     );
+    human += &if v_bd.is_nan() {
+        format!("  Brunet-Derrida, N = {n_bd:<8.0}   none: their law is for N well above 9\n")
+    } else {
+        format!(
+            "  Brunet-Derrida, N = {n_bd:<8.0}   {v_bd:.4} ± {:.4}   measured / BD {:.3}\n",
+            row.speed_brunet_derrida_error,
+            v / v_bd
+        )
+    };
     human += &format!(
         "  front width, integral u(1-u)   {front_width:.3}   Fisher-KPP {:.3} (2 xi), from the speed v / k n {:.3}\n  frame: {} moves of {}, {} relabellings between moves; the rightmost A was at most {:.1} ahead, the zone at least {:.1}\n",
         row.front_width_kpp, row.front_width_from_speed, run.moves, frame.shift, run.refreshes, run.tip_max, run.tip_limit

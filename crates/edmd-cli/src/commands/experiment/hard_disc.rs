@@ -544,7 +544,7 @@ fn check(args: &HardDiscArgs) -> Result<Vec<f64>> {
         .find(|w| format!("{:.4}", w[0]) == format!("{:.4}", w[1]))
     {
         return edmd::user_error(format!(
-            "{name}: packing fractions {} and {} are closer than 0.0001",
+            "{name}: packing fractions {} and {} are the same to 4 decimals, which name the checkpoints",
             w[1], w[0]
         ));
     }

@@ -25,8 +25,8 @@ use edmd_plot::{Figure, Series};
 use serde::Serialize;
 
 use super::common::{
-    check_count, check_n, check_once, files_line, out_dir, outputs, report, stop_requested,
-    write_csv, CommonArgs, Progress,
+    check_count, check_n, check_once, files_line, interrupted_after, out_dir, outputs, report,
+    stop_requested, write_csv, CommonArgs, Progress,
 };
 
 /// Options of `edmd experiment jamming`.
@@ -185,7 +185,6 @@ fn references(dim: usize, ratio: f64, large: f64) -> (Vec<(&'static str, f64)>, 
 }
 
 fn run_in<const D: usize>(args: &JammingArgs) -> Result<()> {
-    check_n("jamming", args.n, 2 * (D + 1))?;
     check_count("jamming", "seeds", args.seeds, 1, 10_000)?;
     if args.rates.is_empty() {
         return edmd::user_error("jamming: give at least one growth rate (--rates)");
@@ -225,12 +224,7 @@ fn run_in<const D: usize>(args: &JammingArgs) -> Result<()> {
     let per_particle = (1.0 - large) + large * ratio.powi(d);
     let least =
         (3f64.powi(d) * ratio.max(1.0).powi(d) / (unit_ball * per_particle)).floor() as usize + 2;
-    if args.n < least {
-        return edmd::user_error(format!(
-            "jamming: --n must be at least {least} for these sizes, so that no particle grows to a third of the periodic box, found {}",
-            args.n
-        ));
-    }
+    check_n("jamming", args.n, least)?;
     let crystal = args
         .crystal_packing
         .unwrap_or(if D == 3 { 0.66 } else { 0.86 });
@@ -312,6 +306,10 @@ fn run_in<const D: usize>(args: &JammingArgs) -> Result<()> {
         }
     }
     progress.finish();
+    if rows.is_empty() {
+        // Stopped before the first rate was done: earlier results in the folder are kept.
+        return interrupted_after(&[]);
+    }
     let nan = |x: Option<f64>| x.unwrap_or(f64::NAN);
     let csv = dir.join("jamming.csv");
     write_csv(

@@ -113,7 +113,16 @@ fn run_in<const D: usize>(args: &MfpArgs) -> Result<()> {
         &args.packing,
         if D == 3 { 0.500_000_1 } else { 0.70 },
     )?;
-    check_n("mfp", args.n, 16)?;
+    // The sphere generator makes fluids of at least MIN_FLUID_DISCS.
+    check_n(
+        "mfp",
+        args.n,
+        if D == 3 {
+            edmd_core::setup::fluid::MIN_FLUID_DISCS
+        } else {
+            16
+        },
+    )?;
     super::common::check_count("mfp", "collisions", args.measure, 1, 100_000)?;
     let dir = out_dir(
         &args.common,

@@ -388,7 +388,8 @@ fn parse_laws(words: &[String]) -> Result<Vec<Law>> {
     let words: Vec<String> = laws
         .iter()
         .map(|l| match l {
-            Law::Constant(e) => e.to_string(),
+            // -0 and 0 are one restitution.
+            Law::Constant(e) => (e + 0.0).to_string(),
             Law::Bridges => "bridges".to_string(),
         })
         .collect();

@@ -112,9 +112,9 @@ pub(super) fn plan(args: &FrontArgs) -> Result<(Frame, f64)> {
             "--probability and --activation make the front's leading edge decay over xi = {xi:.2} diameters, and the box must be 38 of them long, more than the 100000 diameters allowed: give a larger --probability or a smaller --activation"
         ));
     }
-    if length < least {
+    if args.length < least {
         return bad(format!(
-            "--length must be at least {least} for this packing, probability and activation (38 decay lengths xi = {xi:.2} of the front's leading edge), found {}",
+            "--length must be at least {least} for this packing, probability and activation (about 38 decay lengths xi = {xi:.2} of the front's leading edge, and at least 30 for the moving frame), found {}",
             args.length
         ));
     }
@@ -126,7 +126,8 @@ pub(super) fn plan(args: &FrontArgs) -> Result<(Frame, f64)> {
     }
     // The diffusion coefficient is measured over windows of 2 / r: a front run shorter than
     // three of them leaves D, and all the theory made from it, without a value.
-    let least_until = 6.0 / growth;
+    // Rounded up to the tenth that the message shows, so that the check and it agree.
+    let least_until = (60.0 / growth).ceil() / 10.0;
     if least_until > 1e5 {
         return bad(format!(
             "--probability and --activation make the front grow at r = k n = {growth:.3e} per unit time, so slowly that it needs --until of at least 6 / r = {least_until:.3e}, more than the 100000 allowed: give a larger --probability or a smaller --activation"
@@ -135,7 +136,7 @@ pub(super) fn plan(args: &FrontArgs) -> Result<(Frame, f64)> {
     let until = args.until.unwrap_or((500.0 / growth).min(1e5));
     if !(until.is_finite() && until >= least_until && until <= 1e5) {
         return bad(format!(
-            "--until must be at least 6 / r = {least_until:.1} (r = k n = {growth:.4}, the front's growth rate: diffusion is measured over windows of 2 / r) and at most 100000, found {until}"
+            "--until must be at least 6 / r = {least_until} (r = k n = {growth:.4}, the front's growth rate: diffusion is measured over windows of 2 / r) and at most 100000, found {until}"
         ));
     }
     Ok((
