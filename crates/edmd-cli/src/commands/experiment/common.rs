@@ -298,3 +298,14 @@ pub fn most_per_side() -> usize {
     (edmd_core::setup::placement::MAX_RANDOM_FILL * 0.5 / (std::f64::consts::PI * r * r)).floor()
         as usize
 }
+
+/// Checks the size of a melted fluid in `D` dimensions: at least 16 discs, or the sphere
+/// generator's [`edmd_core::setup::fluid::MIN_FLUID_DISCS`] spheres.
+pub fn check_fluid_n<const D: usize>(name: &str, n: usize) -> Result<()> {
+    let least = if D == 3 {
+        edmd_core::setup::fluid::MIN_FLUID_DISCS
+    } else {
+        16
+    };
+    check_n(name, n, least)
+}

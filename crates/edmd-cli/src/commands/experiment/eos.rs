@@ -19,8 +19,8 @@ use edmd_plot::{Figure, Series};
 use serde::Serialize;
 
 use super::common::{
-    check_n, check_packings, files_line, interrupted_after, melted_fluid_in, out_dir, outputs,
-    report, stop_requested, write_csv, CommonArgs, Progress,
+    check_packings, files_line, interrupted_after, melted_fluid_in, out_dir, outputs, report,
+    stop_requested, write_csv, CommonArgs, Progress,
 };
 
 /// Options of `edmd experiment eos`.
@@ -144,16 +144,7 @@ fn run_in<const D: usize>(args: &EosArgs) -> Result<()> {
     } else {
         check_packings("eos", args_packing, 0.70)?;
     }
-    // The sphere generator makes fluids of at least MIN_FLUID_DISCS.
-    check_n(
-        "eos",
-        args.n,
-        if D == 3 {
-            edmd_core::setup::fluid::MIN_FLUID_DISCS
-        } else {
-            16
-        },
-    )?;
+    super::common::check_fluid_n::<D>("eos", args.n)?;
     super::common::check_count("eos", "collisions", args.measure, 1, 100_000)?;
     super::common::check_count("eos", "melt", args.melt, 0, 100_000)?;
     super::common::check_count("eos", "blocks", args.blocks as u64, 2, 10_000)?;

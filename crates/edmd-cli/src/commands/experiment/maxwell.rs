@@ -17,8 +17,8 @@ use rand::{Rng, SeedableRng};
 use serde::Serialize;
 
 use super::common::{
-    check_n, check_packings, files_line, interrupted_after, out_dir, outputs, report,
-    run_collisions, stop_requested, write_csv, CommonArgs, Progress,
+    check_packings, files_line, interrupted_after, out_dir, outputs, report, run_collisions,
+    stop_requested, write_csv, CommonArgs, Progress,
 };
 
 /// Options of `edmd experiment maxwell`.
@@ -87,16 +87,7 @@ fn run_in<const D: usize>(args: &MaxwellArgs) -> Result<()> {
         &[args.packing],
         if D == 3 { 0.500_000_1 } else { 0.70 },
     )?;
-    // The sphere generator makes fluids of at least MIN_FLUID_DISCS.
-    check_n(
-        "maxwell",
-        args.n,
-        if D == 3 {
-            edmd_core::setup::fluid::MIN_FLUID_DISCS
-        } else {
-            16
-        },
-    )?;
+    super::common::check_fluid_n::<D>("maxwell", args.n)?;
     super::common::check_count("maxwell", "snapshots", args.snapshots as u64, 1, 10_000)?;
     super::common::check_count("maxwell", "bins", args.bins as u64, 2, 10_000)?;
     let dir = out_dir(&args.common, &outputs(&["maxwell"], &["maxwell"]))?;

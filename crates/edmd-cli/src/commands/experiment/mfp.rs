@@ -18,8 +18,8 @@ use edmd_plot::{Figure, Series};
 use serde::Serialize;
 
 use super::common::{
-    check_n, check_packings, files_line, interrupted_after, melted_fluid_in, out_dir, outputs,
-    report, stop_requested, write_csv, CommonArgs, Progress,
+    check_packings, files_line, interrupted_after, melted_fluid_in, out_dir, outputs, report,
+    stop_requested, write_csv, CommonArgs, Progress,
 };
 
 /// Options of `edmd experiment mfp`.
@@ -113,16 +113,7 @@ fn run_in<const D: usize>(args: &MfpArgs) -> Result<()> {
         &args.packing,
         if D == 3 { 0.500_000_1 } else { 0.70 },
     )?;
-    // The sphere generator makes fluids of at least MIN_FLUID_DISCS.
-    check_n(
-        "mfp",
-        args.n,
-        if D == 3 {
-            edmd_core::setup::fluid::MIN_FLUID_DISCS
-        } else {
-            16
-        },
-    )?;
+    super::common::check_fluid_n::<D>("mfp", args.n)?;
     super::common::check_count("mfp", "collisions", args.measure, 1, 100_000)?;
     let dir = out_dir(
         &args.common,

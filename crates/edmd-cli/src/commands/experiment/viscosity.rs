@@ -44,8 +44,8 @@ use edmd_plot::{Figure, Series};
 use serde::Serialize;
 
 use super::common::{
-    check_count, check_n, check_packings, files_line, interrupted_after, melted_fluid_in, out_dir,
-    outputs, report, stop_requested, write_csv, CommonArgs, Progress,
+    check_count, check_packings, files_line, interrupted_after, melted_fluid_in, out_dir, outputs,
+    report, stop_requested, write_csv, CommonArgs, Progress,
 };
 
 /// Options of `edmd experiment viscosity`.
@@ -178,16 +178,7 @@ fn run_in<const D: usize>(args: &ViscosityArgs) -> Result<()> {
         &packings,
         if D == 3 { 0.500_000_1 } else { 0.70 },
     )?;
-    // The sphere generator makes fluids of at least MIN_FLUID_DISCS.
-    check_n(
-        "viscosity",
-        args.n,
-        if D == 3 {
-            edmd_core::setup::fluid::MIN_FLUID_DISCS
-        } else {
-            16
-        },
-    )?;
+    super::common::check_fluid_n::<D>("viscosity", args.n)?;
     check_count("viscosity", "melt", args.melt, 0, 100_000)?;
     check_count("viscosity", "blocks", args.blocks as u64, 2, 100_000)?;
     check_count(
