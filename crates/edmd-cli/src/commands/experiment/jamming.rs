@@ -214,7 +214,7 @@ fn run_in<const D: usize>(args: &JammingArgs) -> Result<()> {
     };
     sizes
         .validate()
-        .or_else(|e| edmd::user_error(e.to_string()))?;
+        .or_else(|e| edmd::user_error(format!("jamming: {e} (--size-ratio, --fraction-large)")))?;
     // A compression stops with an error once the largest particle has grown to a third of the
     // periodic box. No packing fraction exceeds 1, so with N at least this the largest
     // diameter stays below a third of the box: (d_max / L)^D <= max(1, r)^D / (v_D (N_small +
