@@ -58,13 +58,10 @@ pub struct Summary {
 
 /// Runs the experiment.
 pub fn run(args: &BrownianArgs) -> Result<()> {
-    // The small discs are placed at random around the big one, which covers at most
-    // MAX_RANDOM_FILL of the unit box.
+    // The small discs are placed at random in the unit box around the big one.
     let sizes = Brownian::default();
-    let area = |r: f64| std::f64::consts::PI * r * r;
-    let most = ((edmd_core::setup::placement::MAX_RANDOM_FILL - area(sizes.big_radius))
-        / area(sizes.small_radius))
-    .floor() as usize;
+    let big = std::f64::consts::PI * sizes.big_radius * sizes.big_radius;
+    let most = super::common::most_at_random(1.0, big, sizes.small_radius);
     super::common::check_count("brownian", "n", args.n as u64, 1, most as u64)?;
     // The time-lag MSD averages every pair of samples up to a quarter of the path apart (a
     // cost of samples^2 / 4, a few seconds at the most allowed); its fit needs some lags.

@@ -289,14 +289,22 @@ pub fn check_count(name: &str, flag: &str, value: u64, min: u64, max: u64) -> Re
     Ok(())
 }
 
-/// The most discs on each side of the partition of `demon` and `diffusion` (the generator's
-/// two-species box of Princeton's discs, radius 0.005): more than that cover over
-/// [`edmd_core::setup::placement::MAX_RANDOM_FILL`] of their half of the unit box, more than
-/// random placement allows.
+/// The most discs of `radius` that random placement puts in a region of `area` of which
+/// `taken` is covered already: more would cover over
+/// [`edmd_core::setup::placement::MAX_RANDOM_FILL`] of it, which the generators refuse.
+pub fn most_at_random(area: f64, taken: f64, radius: f64) -> usize {
+    let fill = edmd_core::setup::placement::MAX_RANDOM_FILL * area - taken;
+    (fill / (std::f64::consts::PI * radius * radius)).floor() as usize
+}
+
+/// The most discs on each side of the partition of `demon` and `diffusion`: the generator's
+/// two-species box places Princeton's discs at random in each half of the unit box.
 pub fn most_per_side() -> usize {
-    let r = edmd_core::setup::generators::Diffusion2::default().radius;
-    (edmd_core::setup::placement::MAX_RANDOM_FILL * 0.5 / (std::f64::consts::PI * r * r)).floor()
-        as usize
+    most_at_random(
+        0.5,
+        0.0,
+        edmd_core::setup::generators::Diffusion2::default().radius,
+    )
 }
 
 /// Checks the size of a melted fluid in `D` dimensions: at least 16 discs, or the sphere

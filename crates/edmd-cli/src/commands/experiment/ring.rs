@@ -126,6 +126,14 @@ enum Law {
 }
 
 impl Law {
+    /// The law as `--restitution` names it (-0 and 0 are one restitution).
+    fn word(&self) -> String {
+        match self {
+            Law::Constant(e) => (e + 0.0).to_string(),
+            Law::Bridges => "bridges".to_string(),
+        }
+    }
+
     fn label(&self) -> String {
         match self {
             Law::Constant(e) => format!("e = {e}"),
@@ -278,11 +286,14 @@ pub fn run(args: &RingArgs) -> Result<()> {
                 progress.set(done + s)
             })
             .with_context(|| {
-                let given = match law {
-                    Law::Constant(e) => format!("--restitution {e}"),
-                    Law::Bridges => format!("Bridges' law with --bridges-vc {}", args.bridges_vc),
+                let vc = match law {
+                    Law::Constant(_) => String::new(),
+                    Law::Bridges => format!(" --bridges-vc {}", args.bridges_vc),
                 };
-                format!("ring: the run with {given} ({start} start) stopped")
+                format!(
+                    "ring: the run with --restitution {}{vc} ({start} start) stopped",
+                    law.word()
+                )
             })?;
             if let Some(m) = movie {
                 m.finish()?;
@@ -385,14 +396,7 @@ fn parse_laws(words: &[String]) -> Result<Vec<Law>> {
         };
         laws.push(law);
     }
-    let words: Vec<String> = laws
-        .iter()
-        .map(|l| match l {
-            // -0 and 0 are one restitution.
-            Law::Constant(e) => (e + 0.0).to_string(),
-            Law::Bridges => "bridges".to_string(),
-        })
-        .collect();
+    let words: Vec<String> = laws.iter().map(Law::word).collect();
     check_once("ring", "--restitution", &words)?;
     Ok(laws)
 }
