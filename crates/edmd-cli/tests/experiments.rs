@@ -1005,3 +1005,112 @@ fn list_defaults_are_shown_as_the_parser_reads_them() {
         assert!(help.contains(shown), "{name}: {help}");
     }
 }
+
+// Each of these once ran to the end and printed NaN or inf, or was refused in another
+// command's words.
+#[test]
+fn experiments_say_what_a_missing_value_means_and_refuse_in_their_own_words() {
+    let text = |args: &[&str]| {
+        let dir = tempfile::tempdir().unwrap();
+        let mut a = vec!["experiment"];
+        a.extend_from_slice(args);
+        a.extend(["--out-dir", dir.path().to_str().unwrap()]);
+        ok_stdout(&run("edmd", &a, None))
+    };
+    // One start has no spread, and a packing whose every particle rattles has no contacts.
+    let jam = text(&[
+        "jamming",
+        "--dim",
+        "2",
+        "--fraction-large",
+        "0.3",
+        "--n",
+        "100",
+        "--seeds",
+        "1",
+        "--rates",
+        "0.2",
+    ]);
+    assert!(!jam.contains("NaN"), "{jam}");
+    assert!(
+        jam.contains("1 start per rate") && jam.contains("30:70"),
+        "{jam}"
+    );
+    assert!(jam.contains("G = 0.2: every particle rattles"), "{jam}");
+    // Lee's law starts at its t_0: before, a dash.
+    let lee = text(&["annihilation", "--n", "500", "--until", "30"]);
+    assert!(
+        !lee.contains("NaN") && lee.contains("          -   "),
+        "{lee}"
+    );
+
+    for (args, words) in [
+        (
+            &["jamming", "--rates", "1e-308"][..],
+            &["jamming: growth rate 1e-308 is too slow", "faster --rates"][..],
+        ),
+        (
+            &["jamming", "--size-ratio", "20"][..],
+            &["jamming: size ratio 20", "--size-ratio"][..],
+        ),
+        (
+            &["jamming", "--fraction-large", "0.3"][..],
+            &["--size-ratio for spheres"][..],
+        ),
+        // Its MSD was fitted over the later half of the run, where 5 samples put one.
+        (
+            &["annihilation", "--samples", "5"][..],
+            &["--samples 5", "at least 14"][..],
+        ),
+        // The conductivity's blocks are half as many: 1 gave no error bar.
+        (
+            &["viscosity", "--blocks", "3"][..],
+            &["--blocks must be from 4"][..],
+        ),
+        (
+            &["reaction", "--packing", "0.6"][..],
+            &["reaction, for spheres", "--dim"][..],
+        ),
+        (
+            &["demon", "--until", "1e308"][..],
+            &["--until must be above 0 and at most 1e7"][..],
+        ),
+        (&["diffusion", "--until", "1e8"][..], &["--until"][..]),
+        (&["brownian", "--until", "1e308"][..], &["--until"][..]),
+        (&["billiards", "--follow", "1e308"][..], &["--follow"][..]),
+        (
+            &["reversibility", "--times", "1,1e308"][..],
+            &["--times"][..],
+        ),
+        // clap reads these values as options: the message names the option and the way out.
+        (
+            &["eos", "--packing", "-inf"][..],
+            &["--packing -inf", "--packing=-inf"][..],
+        ),
+        (&["eos", "--dim", "-1"][..], &["--dim=-1"][..]),
+        (
+            &[
+                "cooling",
+                "--tc",
+                "0",
+                "--restitution",
+                "0.1",
+                "--packing",
+                "0.6",
+                "--n",
+                "1000",
+                "--runs",
+                "2",
+            ][..],
+            &["inelastic collapse", "nothing written", "--tc above 0"][..],
+        ),
+    ] {
+        let dir = tempfile::tempdir().unwrap();
+        let out_dir = dir.path().join("out");
+        let mut a = vec!["experiment"];
+        a.extend_from_slice(args);
+        a.extend(["--out-dir", out_dir.to_str().unwrap()]);
+        refused(&run("edmd", &a, None), words);
+        assert!(!out_dir.exists(), "{args:?}");
+    }
+}

@@ -185,7 +185,7 @@ fn the_steady_shear_route_can_be_left_out_and_its_rate_is_checked() {
             "--packing",
             "0.2",
             "--blocks",
-            "2",
+            "4",
             "--melt",
             "5",
             "--shear-rate",

@@ -100,13 +100,41 @@ pub fn parse_args<P: clap::Parser>(program: &str) -> Result<P, ExitCode> {
                     },
                 );
             }
-            eprintln!(
-                "{program}: error: {} (try '{program} --help')",
-                one_line(&e.render().to_string())
-            );
+            let message = hyphen_value::<P>(&e, std::env::args().collect())
+                .unwrap_or_else(|| one_line(&e.render().to_string()));
+            eprintln!("{program}: error: {message} (try '{program} --help')");
             Err(ExitCode::from(2))
         }
     }
+}
+
+/// clap reads a value that starts with '-' and is no plain number (`--packing -inf`,
+/// `--dim -1` where negatives are not allowed, `--activation -0,0`) as an unknown option, and
+/// says only "unexpected argument '-i'". When the word before it is an option that takes a
+/// value, this says which option and how to give it such a value.
+fn hyphen_value<P: clap::CommandFactory>(e: &clap::Error, args: Vec<String>) -> Option<String> {
+    use clap::error::{ContextKind, ContextValue, ErrorKind};
+    if e.kind() != ErrorKind::UnknownArgument {
+        return None;
+    }
+    let Some(ContextValue::String(bad)) = e.get(ContextKind::InvalidArg) else {
+        return None;
+    };
+    let takes_value = |name: &str| {
+        fn find(c: &clap::Command, name: &str) -> bool {
+            c.get_arguments()
+                .any(|a| a.get_long() == Some(name) && a.get_action().takes_values())
+                || c.get_subcommands().any(|s| find(s, name))
+        }
+        find(&P::command(), name)
+    };
+    args.windows(2).find_map(|w| {
+        let (option, value) = (&w[0], &w[1]);
+        let name = option.strip_prefix("--")?;
+        (value.starts_with(bad.as_str()) && !name.contains('=') && takes_value(name)).then(|| {
+            format!("{option} {value}: a value that starts with '-' reads as an option; write {option}={value}")
+        })
+    })
 }
 
 /// clap's message without the usage block, folded into one line.

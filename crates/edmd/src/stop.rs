@@ -17,8 +17,9 @@ static PROMPT: AtomicBool = AtomicBool::new(false);
 /// How long a command that asked to stop promptly may take to notice a signal before the
 /// program ends without it. Every loop of such a command looks at the flag at least every
 /// tenth of a second or so; this covers the steps that cannot look (reading a large file,
-/// building a large simulation, drawing one large frame).
-pub const STOP_GRACE: std::time::Duration = std::time::Duration::from_millis(1000);
+/// building a large simulation, drawing one large frame). 800 ms leaves the program the rest
+/// of the second it promises to end in.
+pub const STOP_GRACE: std::time::Duration = std::time::Duration::from_millis(800);
 
 /// Makes Ctrl-C (SIGINT), SIGTERM and SIGHUP ask the running command to stop: an experiment
 /// then writes what it measured so far, `run` and `render` abandon the run and remove their

@@ -199,11 +199,6 @@ fn mean_and_error(v: &[f64]) -> (f64, f64) {
 /// Runs the experiment.
 pub fn run(args: &AnnihilationArgs) -> Result<()> {
     check(args)?;
-    let dir = out_dir(
-        &args.common,
-        &outputs(&["annihilation"], &["annihilation", "annihilation-lee"]),
-    )?
-    .to_path_buf();
     let n = args.n;
     let n0 = number_density(args.packing, 1.0);
     let volume = n as f64 / n0;
@@ -212,9 +207,31 @@ pub fn run(args: &AnnihilationArgs) -> Result<()> {
     // From when the mean-field law has lost 5% (or a hundredth of the run) to the end, evenly
     // in log t.
     let first = (0.05 / (k_theory * n0)).min(0.01 * args.until);
-    let times: Vec<f64> = (0..args.samples)
-        .map(|k| first * (args.until / first).powf(k as f64 / (args.samples - 1) as f64))
-        .collect();
+    let times_of = |samples: u64| -> Vec<f64> {
+        (0..samples)
+            .map(|k| first * (args.until / first).powf(k as f64 / (samples - 1) as f64))
+            .collect()
+    };
+    let times = times_of(args.samples);
+    // The diffusion coefficient is fitted over the later half of the run (and Lee's slope over
+    // its last tenth, which holds more samples): a line needs two points.
+    let later = |times: &[f64]| times.iter().filter(|&&t| t >= 0.5 * args.until).count();
+    if later(&times) < 2 {
+        let least = (args.samples..)
+            .find(|&s| later(&times_of(s)) >= 2)
+            .expect("enough samples put two in the later half");
+        return edmd::user_error(format!(
+            "annihilation: --samples {} puts {} in the later half of the run, where the diffusion coefficient is fitted, and a line needs two: give at least {least} (they are spaced evenly in log t from t = {first:.3} to {})",
+            args.samples,
+            later(&times),
+            args.until
+        ));
+    }
+    let dir = out_dir(
+        &args.common,
+        &outputs(&["annihilation"], &["annihilation", "annihilation-lee"]),
+    )?
+    .to_path_buf();
     let fit_from = 0.1 * args.until;
     let progress = Progress::new(args.runs * args.samples, "annihilation");
     let mut runs = Vec::new();
@@ -317,12 +334,17 @@ pub fn run(args: &AnnihilationArgs) -> Result<()> {
     );
     for r in &rows {
         human += &format!(
-            "  {:8.3}  {:9.3e}  {:9.2e}  {:9.3e}  {:9.3e}  {:7.4}\n",
+            "  {:8.3}  {:9.3e}  {:9.2e}  {:9.3e}  {:>9}  {:7.4}\n",
             r.time,
             r.density,
             r.density_error,
             r.density_mean_field,
-            r.density_lee,
+            // Lee's law holds from its t_0 on (before, ln(t / t_0) is negative).
+            if r.density_lee.is_nan() {
+                "-".to_string()
+            } else {
+                format!("{:9.3e}", r.density_lee)
+            },
             r.rate_constant
         );
     }

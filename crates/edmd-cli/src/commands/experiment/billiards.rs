@@ -16,7 +16,7 @@ use edmd_plot::{Figure, Series};
 use serde::Serialize;
 
 use super::common::{
-    files_line, interrupted_after, out_dir, outputs, report, write_csv, CommonArgs,
+    check_span, files_line, interrupted_after, out_dir, outputs, report, write_csv, CommonArgs,
 };
 use edmd::user_error;
 
@@ -116,9 +116,7 @@ pub fn run(args: &BilliardsArgs) -> Result<()> {
     if !(args.offset.is_finite() && args.offset.abs() <= 0.9) {
         return user_error("billiards: --offset must be within +-0.9 diameters");
     }
-    if !(args.follow.is_finite() && args.follow > 0.0) {
-        return user_error("billiards: --follow must be > 0");
-    }
+    check_span("billiards", "follow", args.follow, 1e6)?;
     let dir = out_dir(
         &args.common,
         &outputs(

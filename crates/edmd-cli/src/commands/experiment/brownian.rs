@@ -14,8 +14,8 @@ use edmd_plot::{Figure, Series};
 use serde::Serialize;
 
 use super::common::{
-    files_line, interrupted_after, out_dir, outputs, report, stop_requested, write_csv, CommonArgs,
-    Progress,
+    check_span, files_line, interrupted_after, out_dir, outputs, report, stop_requested, write_csv,
+    CommonArgs, Progress,
 };
 
 /// Options of `edmd experiment brownian`.
@@ -66,9 +66,7 @@ pub fn run(args: &BrownianArgs) -> Result<()> {
     // The time-lag MSD averages every pair of samples up to a quarter of the path apart (a
     // cost of samples^2 / 4, a few seconds at the most allowed); its fit needs some lags.
     super::common::check_count("brownian", "samples", args.samples as u64, 40, 100_000)?;
-    if !(args.until.is_finite() && args.until > 0.0) {
-        return edmd::user_error("brownian: --until must be > 0");
-    }
+    check_span("brownian", "until", args.until, 1e7)?;
     let dir = out_dir(
         &args.common,
         &outputs(

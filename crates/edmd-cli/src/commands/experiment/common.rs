@@ -289,6 +289,18 @@ pub fn check_count(name: &str, flag: &str, value: u64, min: u64, max: u64) -> Re
     Ok(())
 }
 
+/// Checks a span of simulated time (`--until`, `--follow`, `--times`): above 0 and at most
+/// `max`, a few hundred times the experiment's default, so that no run is asked for what no
+/// machine finishes (and Ctrl-C is not the only way out of it).
+pub fn check_span(name: &str, flag: &str, value: f64, max: f64) -> Result<()> {
+    if !(value > 0.0 && value <= max) {
+        return edmd::user_error(format!(
+            "{name}: --{flag} must be above 0 and at most {max:e}, found {value}"
+        ));
+    }
+    Ok(())
+}
+
 /// The most discs of `radius` that random placement puts in a region of `area` of which
 /// `taken` is covered already: more would cover over
 /// [`edmd_core::setup::placement::MAX_RANDOM_FILL`] of it, which the generators refuse.

@@ -158,8 +158,13 @@ pub struct Row {
     pub departure_collisions: Option<f64>,
     /// Its error.
     pub departure_collisions_error: Option<f64>,
-    /// The final temperature over `T0` (mean of the runs).
+    /// The final temperature over `T0` (mean of the runs; of their last samples before a
+    /// collapse).
     pub final_temperature: f64,
+    /// How many runs ended in an inelastic collapse (possible only with `--tc 0`).
+    pub collapsed_runs: usize,
+    /// Collisions per particle at their last sample before it (mean; `null` if none did).
+    pub collapse_collisions: Option<f64>,
 }
 
 /// The summary.
@@ -449,6 +454,7 @@ fn row<const D: usize>(
     let omega_theory = enskog_collision_frequency_in(eta, 1.0, kt0, 1.0, D);
     let total: u64 = runs.iter().map(|r| r.collisions).sum();
     let elastic: u64 = runs.iter().map(|r| r.elastic).sum();
+    let collapses: Vec<f64> = runs.iter().filter_map(|r| r.collapse).collect();
     let row = Row {
         dim: D,
         restitution: e,
@@ -493,6 +499,9 @@ fn row<const D: usize>(
             .map(|r| r.samples.last().map_or(f64::NAN, |s| s.kt / r.kt0))
             .sum::<f64>()
             / runs.len() as f64,
+        collapsed_runs: collapses.len(),
+        collapse_collisions: (!collapses.is_empty())
+            .then(|| collapses.iter().sum::<f64>() / collapses.len() as f64),
     };
     (row, found)
 }
@@ -553,6 +562,20 @@ fn run_in<const D: usize>(args: &CoolingArgs) -> Result<()> {
             break;
         }
         let runs: Vec<run::Run> = runs.into_iter().flatten().collect();
+        // Haff's law is fitted from two collisions per particle on: a box whose every run
+        // collapsed before that has nothing to fit.
+        if let Some(most) = runs
+            .iter()
+            .map(|r| r.collapse.filter(|&c| c < 2.0))
+            .collect::<Option<Vec<f64>>>()
+            .map(|c| c.into_iter().fold(0.0, f64::max))
+        {
+            return edmd::user_error(format!(
+                "cooling: every run of N = {n} ended in an inelastic collapse by {most:.2} collisions per particle (e = {}, tc = {}), before Haff's law can be fitted (from 2 collisions per particle): nothing written; a --tc above 0 prevents it (by default a ten-thousandth of the mean free time)",
+                args.restitution,
+                runs[0].tc,
+            ));
+        }
         let (r, found) = row::<D>(args, n, collisions, &runs);
         boxes.push(output::Measured {
             row: r,

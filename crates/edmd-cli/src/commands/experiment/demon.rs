@@ -16,8 +16,8 @@ use edmd_plot::{Figure, Series};
 use serde::Serialize;
 
 use super::common::{
-    files_line, interrupted_after, out_dir, outputs, report, stop_requested, write_csv, CommonArgs,
-    Progress,
+    check_span, files_line, interrupted_after, out_dir, outputs, report, stop_requested, write_csv,
+    CommonArgs, Progress,
 };
 
 /// Options of `edmd experiment demon`.
@@ -130,8 +130,9 @@ pub fn run(args: &DemonArgs) -> Result<()> {
     if !(args.fast >= 0.0 && args.slow >= 0.0 && args.fast.is_finite() && args.slow.is_finite()) {
         return edmd::user_error("demon: --fast and --slow must be finite and >= 0");
     }
-    if !(args.until.is_finite() && args.until > 0.0) || args.samples == 0 {
-        return edmd::user_error("demon: --until must be > 0 and --samples >= 1");
+    check_span("demon", "until", args.until, 1e7)?;
+    if args.samples == 0 {
+        return edmd::user_error("demon: --samples must be at least 1");
     }
     let dir = out_dir(&args.common, &outputs(&["demon"], &["demon"]))?;
     let kind = GenKind::Diffusion2(Diffusion2 {

@@ -14,8 +14,8 @@ use edmd_plot::{Figure, Series};
 use serde::Serialize;
 
 use super::common::{
-    files_line, interrupted_after, out_dir, outputs, report, stop_requested, write_csv, CommonArgs,
-    Progress,
+    check_span, files_line, interrupted_after, out_dir, outputs, report, stop_requested, write_csv,
+    CommonArgs, Progress,
 };
 
 /// Options of `edmd experiment diffusion`.
@@ -74,8 +74,9 @@ pub fn run(args: &DiffusionArgs) -> Result<()> {
         1,
         super::common::MAX_SAMPLES as u64,
     )?;
-    if !(args.until.is_finite() && args.until > 0.0) || args.samples == 0 {
-        return edmd::user_error("diffusion: --until must be > 0 and --samples >= 1");
+    check_span("diffusion", "until", args.until, 1e7)?;
+    if args.samples == 0 {
+        return edmd::user_error("diffusion: --samples must be at least 1");
     }
     let dir = out_dir(
         &args.common,

@@ -184,6 +184,19 @@ fn references(dim: usize, ratio: f64, large: f64) -> (Vec<(&'static str, f64)>, 
     }
 }
 
+/// A message of the compression, in jamming's words: its options are `--rates` and
+/// `--pressure`, named after it as `options`.
+fn message(e: impl std::fmt::Display, options: &str) -> String {
+    let e = e.to_string();
+    let e = e.strip_prefix("pack: ").unwrap_or(&e);
+    let e = e.replace("a larger --growth-rate", "faster --rates");
+    if e.contains("--") {
+        format!("jamming: {e}")
+    } else {
+        format!("jamming: {e} ({options})")
+    }
+}
+
 fn run_in<const D: usize>(args: &JammingArgs) -> Result<()> {
     check_count("jamming", "seeds", args.seeds, 1, 10_000)?;
     if args.rates.is_empty() {
@@ -193,19 +206,22 @@ fn run_in<const D: usize>(args: &JammingArgs) -> Result<()> {
         return edmd::user_error("jamming: at most 1000 growth rates");
     }
     check_once("jamming", "--rates", &args.rates)?;
+    let options = |rate: f64| PackOptions {
+        growth_rate: rate,
+        max_pressure: args.pressure,
+        ..PackOptions::default()
+    };
     for &rate in &args.rates {
-        PackOptions {
-            growth_rate: rate,
-            max_pressure: args.pressure,
-            ..PackOptions::default()
-        }
-        .validate()
-        .or_else(|e| edmd::user_error(format!("jamming: {e} (--rates, --pressure)")))?;
+        options(rate)
+            .validate()
+            .or_else(|e| edmd::user_error(message(e, "--rates, --pressure")))?;
     }
     let (ratio, large) = match (args.size_ratio, args.fraction_large) {
-        (None, None) if D == 2 => (1.4, 0.5),
+        (None, f) if D == 2 => (1.4, f.unwrap_or(0.5)),
         (None, None) => (1.0, 0.0),
-        (None, Some(_)) => return edmd::user_error("jamming: --fraction-large needs --size-ratio"),
+        (None, Some(_)) => return edmd::user_error(
+            "jamming: --fraction-large needs --size-ratio for spheres (monodisperse by default)",
+        ),
         (Some(r), f) => (r, f.unwrap_or(0.5)),
     };
     let sizes = PackSizes::Binary {
@@ -214,7 +230,7 @@ fn run_in<const D: usize>(args: &JammingArgs) -> Result<()> {
     };
     sizes
         .validate()
-        .or_else(|e| edmd::user_error(format!("jamming: {e} (--size-ratio, --fraction-large)")))?;
+        .or_else(|e| edmd::user_error(message(e, "--size-ratio, --fraction-large")))?;
     // A compression stops with an error once the largest particle has grown to a third of the
     // periodic box. No packing fraction exceeds 1, so with N at least this the largest
     // diameter stays below a third of the box: (d_max / L)^D <= max(1, r)^D / (v_D (N_small +
@@ -233,6 +249,14 @@ fn run_in<const D: usize>(args: &JammingArgs) -> Result<()> {
         return edmd::user_error(format!(
             "jamming: --crystal-packing must be above 0 and below 1, found {crystal}"
         ));
+    }
+    // A growth rate too slow for double precision in this box is refused by the compression
+    // as it starts: ask it before the work, on the first start.
+    let (discs, sim_box) = random_start::<D>(args.n, sizes, Boundary::Periodic, args.common.seed)
+        .or_else(|e| edmd::user_error(message(e, "--n")))?;
+    for &rate in &args.rates {
+        Packer::new(&discs, sim_box, options(rate))
+            .or_else(|e| edmd::user_error(message(e, "--rates")))?;
     }
     let dir = out_dir(
         &args.common,
@@ -254,16 +278,11 @@ fn run_in<const D: usize>(args: &JammingArgs) -> Result<()> {
             }
             let seed = args.common.seed.wrapping_add(k);
             let (discs, sim_box) = random_start::<D>(args.n, sizes, Boundary::Periodic, seed)
-                .or_else(|e| edmd::user_error(e.to_string()))?;
-            let options = PackOptions {
-                growth_rate: rate,
-                max_pressure: args.pressure,
-                ..PackOptions::default()
-            };
+                .or_else(|e| edmd::user_error(message(e, "--n")))?;
             let start = Instant::now();
-            let packing: Packing<D> = Packer::new(&discs, sim_box, options)
+            let packing: Packing<D> = Packer::new(&discs, sim_box, options(rate))
                 .and_then(|p| p.run_watched(|_| !stop_requested(), stop_requested))
-                .or_else(|e| edmd::user_error(e.to_string()))?;
+                .or_else(|e| edmd::user_error(message(e, "--rates, --pressure")))?;
             if packing.stop == Stop::Interrupted {
                 interrupted = true;
                 break;
@@ -417,19 +436,41 @@ fn run_in<const D: usize>(args: &JammingArgs) -> Result<()> {
         .save(&dir.join("jamming"))?;
 
     let mut human = format!(
-        "jamming, {} {what} ({sizes_text}), periodic box, to reduced pressure {:.0e}, {} starts per rate:\n       G   packing    error  contacts  rattlers  crystallised  collisions\n",
-        args.n, args.pressure, args.seeds
+        "jamming, {} {what} ({sizes_text}), periodic box, to reduced pressure {:.0e}, {} start{} per rate:\n       G   packing    error  contacts  rattlers  crystallised  collisions\n",
+        args.n,
+        args.pressure,
+        args.seeds,
+        if args.seeds == 1 { "" } else { "s" }
     );
+    // A value that does not exist (one start has no spread; a packing whose every particle
+    // rattles has no contacts) is a dash, not a NaN.
+    let or_dash = |x: Option<f64>, width: usize, digits: usize| {
+        x.map_or(format!("{:>width$}", "-"), |x| {
+            format!("{x:width$.digits$}")
+        })
+    };
     for r in &rows {
         human += &format!(
-            "  {:6.4}  {:8.5}  {:7.5}  {:8.3}  {:7.1}%  {:11.0}%  {:10.3e}\n",
+            "  {:6.4}  {:8.5}  {}  {}  {:7.1}%  {:11.0}%  {:10.3e}\n",
             r.rate,
             r.packing_fraction,
-            nan(r.packing_fraction_err),
-            nan(r.mean_contacts),
+            or_dash(r.packing_fraction_err, 7, 5),
+            or_dash(r.mean_contacts, 8, 3),
             100.0 * r.rattler_fraction,
             100.0 * r.crystallised,
             r.collisions
+        );
+    }
+    let loose: Vec<String> = rows
+        .iter()
+        .filter(|r| r.mean_contacts.is_none())
+        .map(|r| r.rate.to_string())
+        .collect();
+    if !loose.is_empty() {
+        human += &format!(
+            "  G = {}: every particle rattles (fewer than {} contacts once the rattlers are taken out): compressed this fast, the particles stopped against each other without a rigid contact network\n",
+            loose.join(", "),
+            D + 1
         );
     }
     if interrupted {

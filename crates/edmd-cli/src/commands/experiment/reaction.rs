@@ -307,7 +307,13 @@ fn check(args: &ReactionArgs, dims: &[usize]) -> Result<()> {
     for &dim in dims {
         // Fluid: below freezing, 0.70 for discs; spheres up to 0.50 (the generator makes 0.50).
         let max = if dim == 3 { 0.500_000_1 } else { 0.70 };
-        check_packings("reaction", &packings(args, dim), max)?;
+        let who = match (dim, dims.len()) {
+            (3, 1) => "reaction, for spheres",
+            (3, _) => "reaction, for spheres (both dimensions run unless --dim says one)",
+            (_, 1) => "reaction",
+            _ => "reaction, for discs",
+        };
+        check_packings(who, &packings(args, dim), max)?;
     }
     check_n("reaction", args.n, 64)?;
     check_count("reaction", "collisions", args.collisions, 1, 100_000)?;

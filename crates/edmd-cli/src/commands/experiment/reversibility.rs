@@ -15,8 +15,8 @@ use edmd_plot::{Figure, Series};
 use serde::Serialize;
 
 use super::common::{
-    check_n, check_once, check_packings, files_line, interrupted_after, out_dir, outputs, report,
-    run_collisions, stop_requested, write_csv, CommonArgs, Progress,
+    check_n, check_once, check_packings, check_span, files_line, interrupted_after, out_dir,
+    outputs, report, run_collisions, stop_requested, write_csv, CommonArgs, Progress,
 };
 use edmd::user_error;
 
@@ -74,8 +74,8 @@ pub struct Summary {
 
 /// Runs the experiment.
 pub fn run(args: &ReversibilityArgs) -> Result<()> {
-    if args.times.iter().any(|t| !(t.is_finite() && *t > 0.0)) {
-        return user_error("reversibility: every --times value must be a number > 0");
+    for &t in &args.times {
+        check_span("reversibility", "times", t, 1e6)?;
     }
     check_once("reversibility", "--times", &args.times)?;
     check_n("reversibility", args.n, 2)?;

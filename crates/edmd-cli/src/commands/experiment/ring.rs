@@ -343,11 +343,17 @@ pub fn run(args: &RingArgs) -> Result<()> {
             }
         );
     }
-    human += &format!(
-        "  tau_dynamic {:.3}; a monolayer's photometric depth -ln(1 - tau) = {:.3}\n",
-        args.tau,
-        -(1.0 - args.tau).ln()
-    );
+    human += &if args.tau < 1.0 {
+        format!(
+            "  tau_dynamic {:.3}; a monolayer's photometric depth -ln(1 - tau) = {:.3}\n",
+            args.tau,
+            -(1.0 - args.tau).ln()
+        )
+    } else {
+        // A monolayer that covers the plane hides the light behind it entirely.
+        "  tau_dynamic 1.000: the monolayer covers the plane, opaque (-ln(1 - tau) is infinite)\n"
+            .to_string()
+    };
     human += &files_line(&files);
     let summary = Summary {
         experiment: "ring",

@@ -66,7 +66,8 @@ pub struct ViscosityArgs {
     pub melt: u64,
     /// Blocks to measure over, each four windows of 10 mean collision times (the error bar
     /// shrinks as one over the square root of the blocks: about 1.5 % for spheres and 3 % for
-    /// discs at 800). The thermal conductivity's blocks are twice as long (half as many).
+    /// discs at 800). The thermal conductivity's blocks are twice as long (half as many). At
+    /// least 4, so that each has two blocks for its error bar.
     #[arg(long, default_value_t = 800, allow_negative_numbers = true)]
     pub blocks: usize,
     /// Shear rate of the steady-shear route, in units of sqrt(kT / m) / sigma, from 0.001 to 1
@@ -180,7 +181,7 @@ fn run_in<const D: usize>(args: &ViscosityArgs) -> Result<()> {
     )?;
     super::common::check_fluid_n::<D>("viscosity", args.n)?;
     check_count("viscosity", "melt", args.melt, 0, 100_000)?;
-    check_count("viscosity", "blocks", args.blocks as u64, 2, 100_000)?;
+    check_count("viscosity", "blocks", args.blocks as u64, 4, 100_000)?;
     check_count(
         "viscosity",
         "shear-blocks",

@@ -283,10 +283,18 @@ pub(super) fn describe(r: &Row) -> String {
         (Some(v), None) => format!("{v:.1}"),
         _ => "never".to_string(),
     };
+    // Whole collisions, but fractions where the window is that short.
+    let few = |c: f64| {
+        if c < 10.0 {
+            format!("{c:.2}")
+        } else {
+            format!("{c:.0}")
+        }
+    };
     format!(
         "  N {}: box {:.1} = {:.2} L_c (L_c = {:.1} diameters)\n\
          \x20   kT0 {:.4}; collision frequency {:.4} ± {:.4} per particle (Enskog {:.4})\n\
-         \x20   t0 {:.3} ± {:.3}, fitted over {:.0}-{:.0} collisions per particle (theory {:.3} with a2 = {:.4}; {:.3} Maxwellian; {:.3} from the measured frequency)\n\
+         \x20   t0 {:.3} ± {:.3}, fitted over {}-{} collisions per particle (theory {:.3} with a2 = {:.4}; {:.3} Maxwellian; {:.3} from the measured frequency)\n\
          \x20   ln T falls by {:.5} ± {:.5} per collision per particle (theory {:.5})\n\
          \x20   onset (shear fraction {}): {} collisions per particle in {} of {} runs (predicted {}); T 10% above Haff's law: {}\n\
          \x20   TC model: tc = {:.3e}, {:.2e} of the collisions elastic; T/T0 at the end {:.2e}\n",
@@ -300,8 +308,8 @@ pub(super) fn describe(r: &Row) -> String {
         r.collision_frequency_theory,
         r.t0,
         r.t0_error,
-        r.fit_collisions[0],
-        r.fit_collisions[1],
+        few(r.fit_collisions[0]),
+        few(r.fit_collisions[1]),
         r.t0_theory,
         r.sonine_a2,
         r.t0_maxwell,
@@ -318,5 +326,11 @@ pub(super) fn describe(r: &Row) -> String {
         r.tc,
         r.tc_elastic_fraction,
         r.final_temperature,
-    )
+    ) + &match r.collapse_collisions {
+        Some(c) => format!(
+            "    inelastic collapse in {} of {} runs, after {c:.2} collisions per particle (mean): clusters spent the rest of the collisions at vanishing relative speeds; the fits stop there (--tc above 0 prevents it)\n",
+            r.collapsed_runs, r.runs
+        ),
+        None => String::new(),
+    }
 }

@@ -85,6 +85,9 @@ pub(super) struct Run {
     pub elastic: u64,
     /// The state at the end, to draw (2D: the discs; 3D: the spheres' mid-plane).
     pub snapshot: Option<edmd_draw::Scene>,
+    /// Collisions per particle at the last sample before an inelastic collapse spent the rest
+    /// of the run's collisions, if one did.
+    pub collapse: Option<f64>,
 }
 
 /// Counts disc-disc collisions and those that were elastic: from the impulse `J` along the
@@ -202,6 +205,7 @@ pub(super) fn cool<const D: usize>(spec: &Spec) -> Result<Option<Run>> {
         elastic: 0,
     };
     let mut samples = vec![sample(&sim, 0.0, c0, true)];
+    let mut collapse = None;
     let mut k = 0.0;
     'grid: loop {
         let t = t0_theory * FIRST_SAMPLE * 10f64.powf(k / PER_DECADE);
@@ -219,7 +223,21 @@ pub(super) fn cool<const D: usize>(spec: &Spec) -> Result<Option<Run>> {
             }
             if sim.stats().disc_disc >= budget {
                 let now = sim.time() - start;
-                samples.push(sample(&sim, now, c0, false));
+                let last = samples
+                    .last()
+                    .expect("the first sample is taken before the loop");
+                let end = sample(&sim, now, c0, false);
+                // A cooling gas collides at most at its starting frequency, scaled by
+                // sqrt(T / T0) at the last sample. Many more collisions than that since the
+                // last sample (with slack for the noise) are an inelastic collapse: clusters
+                // colliding ever faster at vanishing relative speeds. The run's end is then
+                // no state of the cooling gas, and is left out of the fits.
+                let most = omega * (last.kt / kt0).sqrt() * (now - last.t);
+                if end.tau - last.tau > 4.0 * most + 2.0 {
+                    collapse = Some(last.tau);
+                } else {
+                    samples.push(end);
+                }
                 break 'grid;
             }
             if done < SLICE {
@@ -239,6 +257,7 @@ pub(super) fn cool<const D: usize>(spec: &Spec) -> Result<Option<Run>> {
         collisions: counter.collisions,
         elastic: counter.elastic,
         snapshot,
+        collapse,
     }))
 }
 
