@@ -1043,6 +1043,56 @@ fn experiments_say_what_a_missing_value_means_and_refuse_in_their_own_words() {
         !lee.contains("NaN") && lee.contains("          -   "),
         "{lee}"
     );
+    // With no A left, no rate constant.
+    let gone = text(&[
+        "annihilation",
+        "--n",
+        "64",
+        "--probability",
+        "1",
+        "--until",
+        "2000",
+        "--runs",
+        "2",
+    ]);
+    assert!(!gone.contains("NaN") && gone.contains("0.000e0"), "{gone}");
+    // A patch denser than any monolayer is not given a monolayer's depth (it was "inf").
+    let ring = text(&[
+        "ring",
+        "--tau",
+        "1",
+        "--n",
+        "100",
+        "--orbits",
+        "4",
+        "--restitution",
+        "0.5",
+        "--start",
+        "cold",
+        "--frames",
+        "2",
+    ]);
+    assert!(
+        !ring.contains("inf") && ring.contains("above 0.907"),
+        "{ring}"
+    );
+    // Without the TC model the gas collapses: said, and the fits stop before it (they were
+    // "over 0-0 collisions", with exit 0 and no word of it).
+    let cool = text(&[
+        "cooling",
+        "--tc",
+        "0",
+        "--restitution",
+        "0.1",
+        "--packing",
+        "0.6",
+        "--n",
+        "1000",
+        "--runs",
+        "2",
+    ]);
+    assert!(cool.contains("inelastic collapse in 2 of 2 runs"), "{cool}");
+    assert!(!cool.contains("fitted over 0-0"), "{cool}");
 
     for (args, words) in [
         (
@@ -1088,21 +1138,14 @@ fn experiments_say_what_a_missing_value_means_and_refuse_in_their_own_words() {
             &["--packing -inf", "--packing=-inf"][..],
         ),
         (&["eos", "--dim", "-1"][..], &["--dim=-1"][..]),
+        // An option where a value was due is no value starting with '-'.
         (
-            &[
-                "cooling",
-                "--tc",
-                "0",
-                "--restitution",
-                "0.1",
-                "--packing",
-                "0.6",
-                "--n",
-                "1000",
-                "--runs",
-                "2",
-            ][..],
-            &["inelastic collapse", "nothing written", "--tc above 0"][..],
+            &["eos", "--packing", "--bogus"][..],
+            &["unexpected argument '--bogus'"][..],
+        ),
+        (
+            &["jamming", "--rates", "0.2,1e-300"][..],
+            &["1e-300 is too slow", "faster --rates"][..],
         ),
     ] {
         let dir = tempfile::tempdir().unwrap();

@@ -100,8 +100,11 @@ pub fn parse_args<P: clap::Parser>(program: &str) -> Result<P, ExitCode> {
                     },
                 );
             }
-            let message = hyphen_value::<P>(&e, std::env::args().collect())
-                .unwrap_or_else(|| one_line(&e.render().to_string()));
+            let args = std::env::args_os()
+                .map(|a| a.to_string_lossy().into_owned())
+                .collect();
+            let message =
+                hyphen_value::<P>(&e, args).unwrap_or_else(|| one_line(&e.render().to_string()));
             eprintln!("{program}: error: {message} (try '{program} --help')");
             Err(ExitCode::from(2))
         }
@@ -131,7 +134,10 @@ fn hyphen_value<P: clap::CommandFactory>(e: &clap::Error, args: Vec<String>) -> 
     args.windows(2).find_map(|w| {
         let (option, value) = (&w[0], &w[1]);
         let name = option.strip_prefix("--")?;
-        (value.starts_with(bad.as_str()) && !name.contains('=') && takes_value(name)).then(|| {
+        // A word that starts with "--" is an option given where a value was due (a value
+        // forgotten, an option misspelt), not a value.
+        let is_value = value.starts_with(bad.as_str()) && !value.starts_with("--");
+        (is_value && !name.contains('=') && takes_value(name)).then(|| {
             format!("{option} {value}: a value that starts with '-' reads as an option; write {option}={value}")
         })
     })

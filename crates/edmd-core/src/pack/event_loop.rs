@@ -252,14 +252,22 @@ impl<const D: usize> Packer<D> {
     /// the compression as converged, and with a change below the rounding of the scale nothing
     /// would ever move.
     fn too_slow(&self) -> Result<(), Error> {
+        self.check_growth_rate(self.options.growth_rate)
+    }
+
+    /// Whether this start could be compressed at growth rate `rate` instead of its own: the
+    /// check [`Packer::new`] makes of its rate (too slow for double precision), so that a
+    /// caller with several rates can ask for each on one packer before any work.
+    pub fn check_growth_rate(&self, rate: f64) -> Result<(), Error> {
         let longest = self.sim_box.lengths.iter().copied().fold(0.0, f64::max);
         let t = self.options.collisions_per_rescale * longest;
-        let s = self.scale(t);
+        // The scale grows as s0 + g t with g proportional to the rate.
+        let s = self.s0 + self.g * (rate / self.options.growth_rate) * t;
         let change = (s / self.s0).powi(D as i32) - 1.0;
         if !(change >= self.options.min_relative_change && s > self.s0) {
             return Err(Error::Invalid(format!(
-                "pack: growth rate {:e} is too slow to change the diameters in double precision (the packing fraction would change by {change:.1e} relatively between two rescalings, below the {:.0e} that counts as converged): the compression would stop at once; use a larger --growth-rate",
-                self.options.growth_rate, self.options.min_relative_change
+                "pack: growth rate {rate:e} is too slow to change the diameters in double precision (the packing fraction would change by {change:.1e} relatively between two rescalings, below the {:.0e} that counts as converged): the compression would stop at once; use a larger --growth-rate",
+                self.options.min_relative_change
             )));
         }
         Ok(())

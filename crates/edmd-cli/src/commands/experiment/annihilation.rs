@@ -214,7 +214,7 @@ pub fn run(args: &AnnihilationArgs) -> Result<()> {
     };
     let times = times_of(args.samples);
     // The diffusion coefficient is fitted over the later half of the run (and Lee's slope over
-    // its last tenth, which holds more samples): a line needs two points.
+    // its last decade, which holds more samples): a line needs two points.
     let later = |times: &[f64]| times.iter().filter(|&&t| t >= 0.5 * args.until).count();
     if later(&times) < 2 {
         let least = (args.samples..)
@@ -334,7 +334,7 @@ pub fn run(args: &AnnihilationArgs) -> Result<()> {
     );
     for r in &rows {
         human += &format!(
-            "  {:8.3}  {:9.3e}  {:9.2e}  {:9.3e}  {:>9}  {:7.4}\n",
+            "  {:8.3}  {:9.3e}  {:9.2e}  {:9.3e}  {:>9}  {:>7}\n",
             r.time,
             r.density,
             r.density_error,
@@ -345,7 +345,12 @@ pub fn run(args: &AnnihilationArgs) -> Result<()> {
             } else {
                 format!("{:9.3e}", r.density_lee)
             },
-            r.rate_constant
+            // No A left to meet, no rate.
+            if r.rate_constant.is_nan() {
+                "-".to_string()
+            } else {
+                format!("{:7.4}", r.rate_constant)
+            }
         );
     }
     if interrupted {

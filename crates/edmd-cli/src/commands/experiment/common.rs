@@ -290,8 +290,9 @@ pub fn check_count(name: &str, flag: &str, value: u64, min: u64, max: u64) -> Re
 }
 
 /// Checks a span of simulated time (`--until`, `--follow`, `--times`): above 0 and at most
-/// `max`, a few hundred times the experiment's default, so that no run is asked for what no
-/// machine finishes (and Ctrl-C is not the only way out of it).
+/// `max`, thousands of times the experiment's default and minutes to tens of minutes of
+/// running, so that no run is asked for what no machine finishes (and Ctrl-C is not the only
+/// way out of it).
 pub fn check_span(name: &str, flag: &str, value: f64, max: f64) -> Result<()> {
     if !(value > 0.0 && value <= max) {
         return edmd::user_error(format!(

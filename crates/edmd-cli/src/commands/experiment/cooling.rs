@@ -562,21 +562,16 @@ fn run_in<const D: usize>(args: &CoolingArgs) -> Result<()> {
             break;
         }
         let runs: Vec<run::Run> = runs.into_iter().flatten().collect();
-        // Haff's law is fitted from two collisions per particle on: a box whose every run
-        // collapsed before that has nothing to fit.
-        if let Some(most) = runs
-            .iter()
-            .map(|r| r.collapse.filter(|&c| c < 2.0))
-            .collect::<Option<Vec<f64>>>()
-            .map(|c| c.into_iter().fold(0.0, f64::max))
-        {
+        let (r, found) = row::<D>(args, n, collisions, &runs);
+        // A box whose every run collapsed before Haff's law had the samples it is fitted over
+        // has nothing to show.
+        if runs.iter().all(|r| r.collapse.is_some()) && found.iter().all(|a| a.fitted < 4) {
+            let most = runs.iter().filter_map(|r| r.collapse).fold(0.0, f64::max);
             return edmd::user_error(format!(
-                "cooling: every run of N = {n} ended in an inelastic collapse by {most:.2} collisions per particle (e = {}, tc = {}), before Haff's law can be fitted (from 2 collisions per particle): nothing written; a --tc above 0 prevents it (by default a ten-thousandth of the mean free time)",
+                "cooling: every run of N = {n} ended in an inelastic collapse by {most:.2} collisions per particle (e = {}, tc = 0), before the four samples Haff's law is fitted over: nothing written; a --tc above 0 prevents it (by default a ten-thousandth of the mean free time)",
                 args.restitution,
-                runs[0].tc,
             ));
         }
-        let (r, found) = row::<D>(args, n, collisions, &runs);
         boxes.push(output::Measured {
             row: r,
             runs,

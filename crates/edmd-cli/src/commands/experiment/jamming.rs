@@ -184,16 +184,16 @@ fn references(dim: usize, ratio: f64, large: f64) -> (Vec<(&'static str, f64)>, 
     }
 }
 
-/// A message of the compression, in jamming's words: its options are `--rates` and
-/// `--pressure`, named after it as `options`.
-fn message(e: impl std::fmt::Display, options: &str) -> String {
+/// A message of the compression, in jamming's words (`--rates` for pack's `--growth-rate`),
+/// naming after it the `options` a refused value came from; a compression that failed on the
+/// way says its own cause.
+fn message(e: impl std::fmt::Display, options: Option<&str>) -> String {
     let e = e.to_string();
     let e = e.strip_prefix("pack: ").unwrap_or(&e);
     let e = e.replace("a larger --growth-rate", "faster --rates");
-    if e.contains("--") {
-        format!("jamming: {e}")
-    } else {
-        format!("jamming: {e} ({options})")
+    match options {
+        Some(o) if !e.contains("--") => format!("jamming: {e} ({o})"),
+        _ => format!("jamming: {e}"),
     }
 }
 
@@ -214,7 +214,7 @@ fn run_in<const D: usize>(args: &JammingArgs) -> Result<()> {
     for &rate in &args.rates {
         options(rate)
             .validate()
-            .or_else(|e| edmd::user_error(message(e, "--rates, --pressure")))?;
+            .or_else(|e| edmd::user_error(message(e, Some("--rates, --pressure"))))?;
     }
     let (ratio, large) = match (args.size_ratio, args.fraction_large) {
         (None, f) if D == 2 => (1.4, f.unwrap_or(0.5)),
@@ -230,7 +230,7 @@ fn run_in<const D: usize>(args: &JammingArgs) -> Result<()> {
     };
     sizes
         .validate()
-        .or_else(|e| edmd::user_error(message(e, "--size-ratio, --fraction-large")))?;
+        .or_else(|e| edmd::user_error(message(e, Some("--size-ratio, --fraction-large"))))?;
     // A compression stops with an error once the largest particle has grown to a third of the
     // periodic box. No packing fraction exceeds 1, so with N at least this the largest
     // diameter stays below a third of the box: (d_max / L)^D <= max(1, r)^D / (v_D (N_small +
@@ -253,11 +253,15 @@ fn run_in<const D: usize>(args: &JammingArgs) -> Result<()> {
     // A growth rate too slow for double precision in this box is refused by the compression
     // as it starts: ask it before the work, on the first start.
     let (discs, sim_box) = random_start::<D>(args.n, sizes, Boundary::Periodic, args.common.seed)
-        .or_else(|e| edmd::user_error(message(e, "--n")))?;
-    for &rate in &args.rates {
-        Packer::new(&discs, sim_box, options(rate))
-            .or_else(|e| edmd::user_error(message(e, "--rates")))?;
+        .or_else(|e| edmd::user_error(message(e, Some("--n"))))?;
+    let packer = Packer::new(&discs, sim_box, options(args.rates[0]))
+        .or_else(|e| edmd::user_error(message(e, Some("--rates"))))?;
+    for &rate in &args.rates[1..] {
+        packer
+            .check_growth_rate(rate)
+            .or_else(|e| edmd::user_error(message(e, Some("--rates"))))?;
     }
+    drop(packer);
     let dir = out_dir(
         &args.common,
         &outputs(&["jamming", "jamming_runs"], &["jamming"]),
@@ -278,11 +282,11 @@ fn run_in<const D: usize>(args: &JammingArgs) -> Result<()> {
             }
             let seed = args.common.seed.wrapping_add(k);
             let (discs, sim_box) = random_start::<D>(args.n, sizes, Boundary::Periodic, seed)
-                .or_else(|e| edmd::user_error(message(e, "--n")))?;
+                .or_else(|e| edmd::user_error(message(e, Some("--n"))))?;
             let start = Instant::now();
             let packing: Packing<D> = Packer::new(&discs, sim_box, options(rate))
                 .and_then(|p| p.run_watched(|_| !stop_requested(), stop_requested))
-                .or_else(|e| edmd::user_error(message(e, "--rates, --pressure")))?;
+                .or_else(|e| edmd::user_error(message(e, None)))?;
             if packing.stop == Stop::Interrupted {
                 interrupted = true;
                 break;

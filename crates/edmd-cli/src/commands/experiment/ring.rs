@@ -343,16 +343,21 @@ pub fn run(args: &RingArgs) -> Result<()> {
             }
         );
     }
-    human += &if args.tau < 1.0 {
+    // Equal spheres in one layer cover at most pi / (2 sqrt 3) of the plane (the hexagonal
+    // packing): a denser patch is thicker than a monolayer, whose -ln(1 - tau) then does not
+    // apply (and at tau = 1 would be infinite).
+    let densest = std::f64::consts::PI / (2.0 * 3f64.sqrt());
+    human += &if args.tau <= densest {
         format!(
             "  tau_dynamic {:.3}; a monolayer's photometric depth -ln(1 - tau) = {:.3}\n",
             args.tau,
             -(1.0 - args.tau).ln()
         )
     } else {
-        // A monolayer that covers the plane hides the light behind it entirely.
-        "  tau_dynamic 1.000: the monolayer covers the plane, opaque (-ln(1 - tau) is infinite)\n"
-            .to_string()
+        format!(
+            "  tau_dynamic {:.3}: above {densest:.3}, the most a single layer of equal spheres covers, so no monolayer's -ln(1 - tau) applies; the table's tau_phot is the patch's own\n",
+            args.tau
+        )
     };
     human += &files_line(&files);
     let summary = Summary {

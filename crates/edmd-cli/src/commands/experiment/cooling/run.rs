@@ -217,6 +217,12 @@ pub(super) fn cool<const D: usize>(spec: &Spec) -> Result<Option<Run>> {
         }
         loop {
             let done = sim.run_events_to(start + t, SLICE, &mut edmd::shared(&mut counter));
+            // Without the TC model, a clock that stops is the collapse itself: events without
+            // end at one instant.
+            if sim.stalled().is_some() && tc == 0.0 {
+                collapse = samples.last().map(|s| s.tau);
+                break 'grid;
+            }
             edmd::check_stall(&sim)?;
             if stop_requested() {
                 return Ok(None);
@@ -227,13 +233,15 @@ pub(super) fn cool<const D: usize>(spec: &Spec) -> Result<Option<Run>> {
                     .last()
                     .expect("the first sample is taken before the loop");
                 let end = sample(&sim, now, c0, false);
-                // A cooling gas collides at most at its starting frequency, scaled by
-                // sqrt(T / T0) at the last sample. Many more collisions than that since the
-                // last sample (with slack for the noise) are an inelastic collapse: clusters
-                // colliding ever faster at vanishing relative speeds. The run's end is then
-                // no state of the cooling gas, and is left out of the fits.
+                // Without the TC model, a gas can collapse: clusters colliding ever faster at
+                // vanishing relative speeds. A homogeneous gas collides at its starting
+                // frequency scaled by sqrt(T / T0); clustering raises that by a few times at
+                // most, while a collapse spends the rest of the run's collisions at once. Ten
+                // times as many collisions as that since the last sample are taken for a
+                // collapse: the run's end is then no state of the cooling gas, and is left out
+                // of the fits.
                 let most = omega * (last.kt / kt0).sqrt() * (now - last.t);
-                if end.tau - last.tau > 4.0 * most + 2.0 {
+                if tc == 0.0 && end.tau - last.tau > 10.0 * most + 2.0 {
                     collapse = Some(last.tau);
                 } else {
                     samples.push(end);
@@ -286,6 +294,9 @@ pub(super) struct Analysis {
     pub departure: Option<f64>,
     /// The collisions per particle fitted over.
     pub window: (f64, f64),
+    /// The samples in the window the law asks for; with fewer than 4 the fit falls back to
+    /// the first 4 samples.
+    pub fitted: usize,
 }
 
 /// Fits and onsets of one run. Haff's law makes `T^(-1/2)` linear in time,
@@ -307,7 +318,8 @@ pub(super) fn analyse(run: &Run, onset_fraction: f64, fit_end: Option<f64>) -> A
         .iter()
         .filter(|x| x.tau >= lo && x.tau <= hi && x.kt > 0.0)
         .collect();
-    if window.len() < 4 {
+    let fitted = window.len();
+    if fitted < 4 {
         window = s.iter().filter(|x| x.kt > 0.0).take(4).collect();
     }
     let (a, slope) = line(window.iter().map(|x| (x.t, x.kt.powf(-0.5), x.kt)));
@@ -326,6 +338,7 @@ pub(super) fn analyse(run: &Run, onset_fraction: f64, fit_end: Option<f64>) -> A
             window.first().map_or(f64::NAN, |x| x.tau),
             window.last().map_or(f64::NAN, |x| x.tau),
         ),
+        fitted,
     }
 }
 
