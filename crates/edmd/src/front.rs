@@ -123,14 +123,13 @@ fn hyphen_value<P: clap::CommandFactory>(e: &clap::Error, args: Vec<String>) -> 
     let Some(ContextValue::String(bad)) = e.get(ContextKind::InvalidArg) else {
         return None;
     };
-    let takes_value = |name: &str| {
-        fn find(c: &clap::Command, name: &str) -> bool {
-            c.get_arguments()
-                .any(|a| a.get_long() == Some(name) && a.get_action().takes_values())
-                || c.get_subcommands().any(|s| find(s, name))
-        }
-        find(&P::command(), name)
-    };
+    fn find(c: &clap::Command, name: &str) -> bool {
+        c.get_arguments()
+            .any(|a| a.get_long() == Some(name) && a.get_action().takes_values())
+            || c.get_subcommands().any(|s| find(s, name))
+    }
+    let command = P::command();
+    let takes_value = |name: &str| find(&command, name);
     args.windows(2).find_map(|w| {
         let (option, value) = (&w[0], &w[1]);
         let name = option.strip_prefix("--")?;

@@ -302,6 +302,15 @@ pub fn check_span(name: &str, flag: &str, value: f64, max: f64) -> Result<()> {
     Ok(())
 }
 
+/// The checks `demon` and `diffusion` share: `n` discs on each side of the partitioned box
+/// (from 2 to [`most_per_side`]), from 1 to [`MAX_SAMPLES`] samples, and `--until` at most
+/// 10^7.
+pub fn check_partitioned(name: &str, n: usize, samples: usize, until: f64) -> Result<()> {
+    check_count(name, "n", n as u64, 2, most_per_side() as u64)?;
+    check_count(name, "samples", samples as u64, 1, MAX_SAMPLES as u64)?;
+    check_span(name, "until", until, 1e7)
+}
+
 /// The most discs of `radius` that random placement puts in a region of `area` of which
 /// `taken` is covered already: more would cover over
 /// [`edmd_core::setup::placement::MAX_RANDOM_FILL`] of it, which the generators refuse.

@@ -16,8 +16,8 @@ use edmd_plot::{Figure, Series};
 use serde::Serialize;
 
 use super::common::{
-    check_span, files_line, interrupted_after, out_dir, outputs, report, stop_requested, write_csv,
-    CommonArgs, Progress,
+    check_partitioned, files_line, interrupted_after, out_dir, outputs, report, stop_requested,
+    write_csv, CommonArgs, Progress,
 };
 
 /// Options of `edmd experiment demon`.
@@ -104,20 +104,7 @@ fn sides(sim: &Simulation, x0: f64) -> ([f64; 2], [usize; 2]) {
 
 /// Runs the experiment.
 pub fn run(args: &DemonArgs) -> Result<()> {
-    super::common::check_count(
-        "demon",
-        "n",
-        args.n as u64,
-        2,
-        super::common::most_per_side() as u64,
-    )?;
-    super::common::check_count(
-        "demon",
-        "samples",
-        args.samples as u64,
-        1,
-        super::common::MAX_SAMPLES as u64,
-    )?;
+    check_partitioned("demon", args.n, args.samples, args.until)?;
     // A disc goes through only if it touches neither edge of the door: a door no wider than
     // a disc lets none through.
     let diameter = 2.0 * Diffusion2::default().radius;
@@ -129,10 +116,6 @@ pub fn run(args: &DemonArgs) -> Result<()> {
     }
     if !(args.fast >= 0.0 && args.slow >= 0.0 && args.fast.is_finite() && args.slow.is_finite()) {
         return edmd::user_error("demon: --fast and --slow must be finite and >= 0");
-    }
-    check_span("demon", "until", args.until, 1e7)?;
-    if args.samples == 0 {
-        return edmd::user_error("demon: --samples must be at least 1");
     }
     let dir = out_dir(&args.common, &outputs(&["demon"], &["demon"]))?;
     let kind = GenKind::Diffusion2(Diffusion2 {

@@ -14,8 +14,8 @@ use edmd_plot::{Figure, Series};
 use serde::Serialize;
 
 use super::common::{
-    check_span, files_line, interrupted_after, out_dir, outputs, report, stop_requested, write_csv,
-    CommonArgs, Progress,
+    check_partitioned, files_line, interrupted_after, out_dir, outputs, report, stop_requested,
+    write_csv, CommonArgs, Progress,
 };
 
 /// Options of `edmd experiment diffusion`.
@@ -60,24 +60,7 @@ pub struct Summary {
 
 /// Runs the experiment.
 pub fn run(args: &DiffusionArgs) -> Result<()> {
-    super::common::check_count(
-        "diffusion",
-        "n",
-        args.n as u64,
-        2,
-        super::common::most_per_side() as u64,
-    )?;
-    super::common::check_count(
-        "diffusion",
-        "samples",
-        args.samples as u64,
-        1,
-        super::common::MAX_SAMPLES as u64,
-    )?;
-    check_span("diffusion", "until", args.until, 1e7)?;
-    if args.samples == 0 {
-        return edmd::user_error("diffusion: --samples must be at least 1");
-    }
+    check_partitioned("diffusion", args.n, args.samples, args.until)?;
     let dir = out_dir(
         &args.common,
         &outputs(&["diffusion", "diffusion_msd"], &["diffusion"]),
