@@ -375,3 +375,80 @@ fn potentials_that_cannot_be_are_refused_with_the_reason() {
     )
     .is_err());
 }
+
+#[test]
+fn the_x86_64_v3_stepped_scan_gives_the_portable_trajectory_bit_for_bit() {
+    // In 3D the x86-64-v3 loop reads a sphere's neighbour list four at a time and makes lists
+    // again from the cells' first four spheres (`simulation/steps_x86.rs`); the portable loop
+    // does both one at a time. The same operations in the same order, so the same events and
+    // the same trajectory to the bit. The systems: the square well and the ramp of
+    // `potentials()` in a periodic fluid (lists of about 20, shells from 0 to 3); the well
+    // among spheres of several sizes between walls, whose contact distances differ pair by
+    // pair; and a mixture whose two species have tables of their own, which keeps the
+    // scalar scan in both loops and the new lists' cells four at a time in the fast one.
+    let mut systems = Vec::new();
+    for potential in potentials() {
+        systems.push(fluid::<3>(1000, &potential));
+    }
+    let l = 9.0;
+    let mut sizes = crate::support::random_discs_in::<3>(220, l, 0.3, 0.55, true, 7);
+    for d in &mut sizes {
+        d.mass = 1.0;
+    }
+    let well = Potential::single(0, 0, 1.5, -1.0);
+    systems.push(
+        Simulation::with_potential_at(
+            &sizes,
+            SimBox::walls([l; 3]),
+            &[],
+            &well,
+            Options::default(),
+            0.0,
+        )
+        .unwrap(),
+    );
+    let (mut discs, bx) = lattice_fluid_in::<3>(1000, 0.3, Boundary::Periodic, 5).unwrap();
+    for d in discs.iter_mut().step_by(3) {
+        d.species = 1;
+    }
+    let mixed = Potential {
+        pairs: vec![
+            PairSteps {
+                species: (0, 0),
+                steps: vec![Step {
+                    radius: 1.5,
+                    energy: -1.0,
+                }],
+            },
+            PairSteps {
+                species: (0, 1),
+                steps: vec![Step {
+                    radius: 1.2,
+                    energy: 0.5,
+                }],
+            },
+        ],
+    };
+    systems.push(
+        Simulation::with_potential_at(&discs, bx, &[], &mixed, Options::default(), 0.0).unwrap(),
+    );
+    let v3 = edmd_core::simulation::x86_64_v3_available();
+    for (k, mut fast) in systems.into_iter().enumerate() {
+        let mut portable = fast.clone();
+        assert!(!portable.set_portable_loop(true));
+        assert_eq!(fast.set_portable_loop(false), v3);
+        fast.run_events(60_000, &mut ());
+        portable.run_events(60_000, &mut ());
+        let st = fast.stats();
+        assert!(
+            st.step > 5_000 && st.disc_disc > 1_000 && st.neighbour_list > 1_000,
+            "system {k}: {st:?}"
+        );
+        assert_eq!(st, portable.stats(), "system {k}");
+        assert!(
+            crate::support::bits_3d(&fast) == crate::support::bits_3d(&portable),
+            "system {k}: trajectories differ"
+        );
+        assert_eq!(fast.shells(), portable.shells(), "system {k}");
+    }
+}

@@ -370,14 +370,8 @@ fn the_x86_64_v3_scan_gives_the_portable_trajectory_bit_for_bit_in_3d() {
             fast.stats()
         );
         assert_eq!(fast.stats(), portable.stats(), "system {k}");
-        let bits = |s: &Simulation<3>| -> Vec<[u64; 6]> {
-            s.discs()
-                .iter()
-                .map(|d| std::array::from_fn(|a| [d.pos, d.vel][a / 3][a % 3].to_bits()))
-                .collect()
-        };
         assert!(
-            bits(&fast) == bits(&portable),
+            crate::support::bits_3d(&fast) == crate::support::bits_3d(&portable),
             "system {k}: trajectories differ"
         );
     }

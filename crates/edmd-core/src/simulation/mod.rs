@@ -48,6 +48,8 @@ mod shear;
 mod sheets;
 mod stall;
 mod steps;
+#[cfg(target_arch = "x86_64")]
+mod steps_x86;
 mod thermostat;
 
 pub use check::OverlapReport;

@@ -287,14 +287,24 @@ impl<const D: usize> Simulation<D> {
         let simd = false;
         if EXTRAS && self.steps.is_some() {
             let steps = self.steps.as_deref().expect("a stepped simulation");
-            super::steps::scan_stepped::<D, FAR>(
-                &self.body,
-                &self.species,
-                steps,
-                i,
-                t0,
-                &mut nearest,
-            );
+            if simd && steps.uniform.is_some() {
+                // Four neighbours at a time, bit-identical to the scan below (`steps_x86.rs`).
+                #[cfg(target_arch = "x86_64")]
+                // SAFETY: `v3` is only set when the processor has AVX2 (`set_portable_loop`).
+                #[allow(unsafe_code)]
+                unsafe {
+                    super::steps_x86::scan(&self.body, steps, i, t0, &mut nearest)
+                };
+            } else {
+                super::steps::scan_stepped::<D, FAR>(
+                    &self.body,
+                    &self.species,
+                    steps,
+                    i,
+                    t0,
+                    &mut nearest,
+                );
+            }
         } else if simd {
             // Four candidates at a time, bit-identical to the scan below (`scan_x86.rs`).
             #[cfg(target_arch = "x86_64")]

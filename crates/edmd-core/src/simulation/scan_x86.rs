@@ -211,7 +211,7 @@ fn pad(batch: &mut Batch, n: usize, i: usize) -> usize {
 /// `[p0 p1 p2 p3] ... [s0 s1 s2 s3]`.
 #[target_feature(enable = "avx,avx2,fma,bmi1,bmi2,lzcnt,popcnt,movbe")]
 #[inline]
-fn columns(rows: [__m256d; 4]) -> [__m256d; 4] {
+pub(super) fn columns(rows: [__m256d; 4]) -> [__m256d; 4] {
     let lo01 = _mm256_unpacklo_pd(rows[0], rows[1]); // p0 p1 r0 r1
     let hi01 = _mm256_unpackhi_pd(rows[0], rows[1]); // q0 q1 s0 s1
     let lo23 = _mm256_unpacklo_pd(rows[2], rows[3]);

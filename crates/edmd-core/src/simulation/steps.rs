@@ -87,10 +87,30 @@ pub(super) struct Steps<const D: usize> {
     pub(super) list_radius: f64,
     /// Box lengths, and half of them on periodic axes (`+inf` on walled ones), for the
     /// nearest image of a neighbour.
-    lengths: [f64; D],
-    half: [f64; D],
+    pub(super) lengths: [f64; D],
+    pub(super) half: [f64; D],
     /// A spare list, so that making a list again allocates nothing.
     spare: Vec<(u32, u8)>,
+    /// The edges of every shell when one table serves every pair (one species with steps),
+    /// for the x86-64-v3 scan (`steps_x86.rs`), which reads them per neighbour by shell.
+    pub(super) uniform: Option<Edges>,
+}
+
+/// The edges of the shells of one table, indexed by shell: what [`scan_stepped`] looks up
+/// per neighbour, laid out for a lookup without branches.
+#[derive(Clone, Debug)]
+#[cfg_attr(not(target_arch = "x86_64"), allow(dead_code))]
+pub(super) struct Edges {
+    /// The outermost step: a pair outside every step meets it, or its hard core if that is
+    /// farther.
+    pub(super) reach: f64,
+    /// Per shell `s`, its inner edge `r[s]` (the hard core in the innermost shell, `m`, where
+    /// this holds 0 and the pair's contact distance is read instead).
+    pub(super) inner: Vec<f64>,
+    /// Per shell `s >= 1`, its outer edge `r[s - 1]` (0 for shell 0, which has none).
+    pub(super) outer: Vec<f64>,
+    /// The innermost shell, `m`: the number of steps.
+    pub(super) innermost: u8,
 }
 
 /// Where `j` is in a sorted neighbour list.
@@ -225,6 +245,18 @@ impl<const D: usize> Steps<D> {
             }
         }
         let skin = skin.max(1e-3 * reach);
+        let uniform = (species == 1 && tables.len() == 1).then(|| {
+            let t = &tables[0];
+            let m = t.r.len();
+            Edges {
+                reach: outer[0],
+                inner: (0..=m).map(|s| if s < m { t.r[s] } else { 0.0 }).collect(),
+                outer: (0..=m)
+                    .map(|s| if s > 0 { t.r[s - 1] } else { 0.0 })
+                    .collect(),
+                innermost: m as u8,
+            }
+        });
         Ok(Steps {
             potential: potential.clone(),
             species,
@@ -244,6 +276,7 @@ impl<const D: usize> Steps<D> {
                 }
             }),
             spare: Vec::new(),
+            uniform,
         })
     }
 
@@ -420,11 +453,26 @@ impl<const D: usize> Simulation<D> {
         }
         let mut new = std::mem::take(&mut steps.spare);
         new.clear();
-        for_each_listed(&self.grid, steps, c, p, |j, _| {
-            if j != i {
-                new.push((j as u32, 0));
-            }
-        });
+        #[cfg(target_arch = "x86_64")]
+        let simd = D == 3 && self.v3;
+        #[cfg(not(target_arch = "x86_64"))]
+        let simd = false;
+        if simd {
+            // The cells' first four spheres at a time, the same spheres found
+            // (`steps_x86.rs`).
+            #[cfg(target_arch = "x86_64")]
+            // SAFETY: `v3` is only set when the processor has AVX2 (`set_portable_loop`).
+            #[allow(unsafe_code)]
+            unsafe {
+                super::steps_x86::listed(&self.grid, steps, c, p, i, &mut new)
+            };
+        } else {
+            for_each_listed(&self.grid, steps, c, p, |j, _| {
+                if j != i {
+                    new.push((j as u32, 0));
+                }
+            });
+        }
         new.sort_unstable_by_key(|e| e.0);
         // The old and new lists side by side (both in order): a pair in both keeps its shell
         // and its place in the other disc's list; a pair inside a step stays whatever its

@@ -2,7 +2,7 @@
 
 pub mod naive;
 
-use edmd_core::{Disc, Observer, Vector};
+use edmd_core::{Disc, Observer, Simulation, Vector};
 use rand::{Rng, SeedableRng};
 use rand_pcg::Pcg64Mcg;
 
@@ -63,6 +63,15 @@ pub fn digest(discs: &[Disc]) -> u64 {
         }
     }
     h
+}
+
+/// The bits of every sphere's position and velocity: two runs that agree on these ran the
+/// same trajectory to the bit.
+pub fn bits_3d(s: &Simulation<3>) -> Vec<[u64; 6]> {
+    s.discs()
+        .iter()
+        .map(|d| std::array::from_fn(|a| [d.pos, d.vel][a / 3][a % 3].to_bits()))
+        .collect()
 }
 
 /// A checkpoint file from its header and payload without the checksum (`bytes`, whose header
