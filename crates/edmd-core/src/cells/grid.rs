@@ -294,6 +294,18 @@ impl<const D: usize> CellGrid<D> {
         k
     }
 
+    /// The index of cell `c` among [`Self::cell_count`] (as [`Self::for_each_cell_near`]
+    /// gives them).
+    #[inline(always)]
+    pub(crate) fn index_of(&self, c: CellCoord<D>) -> usize {
+        self.linear(c)
+    }
+
+    /// How many cells the grid has.
+    pub(crate) fn cell_count(&self) -> usize {
+        self.head.len()
+    }
+
     /// The cell disc `i` is filed in.
     #[inline(always)]
     pub fn cell_of(&self, i: usize) -> CellCoord<D> {

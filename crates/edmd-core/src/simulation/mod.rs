@@ -30,6 +30,7 @@
 //! neighbours in list order): the first found is kept.
 
 mod barriers;
+mod centres;
 mod check;
 mod cluster;
 mod event_loop;

@@ -1104,6 +1104,8 @@ impl<const D: usize> Simulation<D> {
         if let Some(shells) = shells_v4 {
             sim.make_lists(Some(&shells));
             sim.schedule_all();
+        } else if let Some(st) = sim.steps.as_deref_mut() {
+            st.filed.refile(&sim.grid, &st.centre);
         }
         // A disc is in the cell it is filed in (at its own clock; it stays there until its
         // event, which is no later than its cell exit, below): the scans of its neighbours

@@ -91,26 +91,28 @@ pub(super) struct Steps<const D: usize> {
     pub(super) half: [f64; D],
     /// A spare list, so that making a list again allocates nothing.
     spare: Vec<(u32, u8)>,
+    /// In 3D, the centres filed by cell as the grid files them (`centres.rs`), for the
+    /// x86-64-v3 list-making.
+    pub(super) filed: super::centres::Centres,
     /// The edges of every shell when one table serves every pair (one species with steps),
     /// for the x86-64-v3 scan (`steps_x86.rs`), which reads them per neighbour by shell.
     pub(super) uniform: Option<Edges>,
 }
 
-/// The edges of the shells of one table, indexed by shell: what [`scan_stepped`] looks up
-/// per neighbour, laid out for a lookup without branches.
+/// The edges of the shells of one table, one row per shell, for the x86-64-v3 scan
+/// (`steps_x86.rs`), which reads four neighbours' rows with four loads and no branch.
 #[derive(Clone, Debug)]
 #[cfg_attr(not(target_arch = "x86_64"), allow(dead_code))]
 pub(super) struct Edges {
-    /// The outermost step: a pair outside every step meets it, or its hard core if that is
-    /// farther.
-    pub(super) reach: f64,
-    /// Per shell `s`, its inner edge `r[s]` (the hard core in the innermost shell, `m`, where
-    /// this holds 0 and the pair's contact distance is read instead).
-    pub(super) inner: Vec<f64>,
-    /// Per shell `s >= 1`, its outer edge `r[s - 1]` (0 for shell 0, which has none).
-    pub(super) outer: Vec<f64>,
-    /// The innermost shell, `m`: the number of steps.
-    pub(super) innermost: u8,
+    /// Per shell `s`: `[inner, outer, outside, 0]`. The pair's next edge from inside the
+    /// shell is the larger of `inner` and its contact distance: `inner` is the outermost step
+    /// for shell 0 (the core if that is farther, as [`scan_stepped`] takes it), the step
+    /// `r[s]` for the shells between (always beyond the core: [`Steps::new`] refuses a step
+    /// inside it), and 0 for the innermost, whose inner edge is the core. `outer` is the
+    /// step `r[s - 1]` the pair leaves by (0 for shell 0, which has none), and `outside` is
+    /// `-0.0` for shell 0 and `0.0` for the others: a sign that selects, per lane, the pairs
+    /// outside every step, which have no departure.
+    pub(super) rows: Vec<[f64; 4]>,
 }
 
 /// Where `j` is in a sorted neighbour list.
@@ -249,12 +251,20 @@ impl<const D: usize> Steps<D> {
             let t = &tables[0];
             let m = t.r.len();
             Edges {
-                reach: outer[0],
-                inner: (0..=m).map(|s| if s < m { t.r[s] } else { 0.0 }).collect(),
-                outer: (0..=m)
-                    .map(|s| if s > 0 { t.r[s - 1] } else { 0.0 })
+                rows: (0..=m)
+                    .map(|s| {
+                        let inner = if s == 0 {
+                            outer[0]
+                        } else if s < m {
+                            t.r[s]
+                        } else {
+                            0.0
+                        };
+                        let leave = if s > 0 { t.r[s - 1] } else { 0.0 };
+                        let outside = if s == 0 { -0.0 } else { 0.0 };
+                        [inner, leave, outside, 0.0]
+                    })
                     .collect(),
-                innermost: m as u8,
             }
         });
         Ok(Steps {
@@ -276,6 +286,7 @@ impl<const D: usize> Steps<D> {
                 }
             }),
             spare: Vec::new(),
+            filed: Default::default(),
             uniform,
         })
     }
@@ -320,6 +331,7 @@ impl<const D: usize> Steps<D> {
         self.near.capacity() * size_of::<Vec<(u32, u8)>>()
             + self.near.iter().map(|l| l.capacity() * 8).sum::<usize>()
             + self.centre.capacity() * size_of::<Vector<D>>()
+            + self.filed.memory_bytes()
     }
 }
 
@@ -331,9 +343,12 @@ pub(super) fn shell_at(table: &Table, r: f64) -> u8 {
 /// Disc `i`'s earliest pair event among its neighbours (`i` advanced to `t0`), for a stepped
 /// potential: for each, the arrival at its shell's inner edge if it gets there, else its
 /// departure through the outer edge. Most neighbours are outside every step (shell 0), whose
-/// only event is the arrival at the outermost one: their contact terms go to `nearest` as a
-/// hard core's do, the roots worked out only for those that meet; those inside a step give
-/// their times directly.
+/// only event is the arrival at the outermost one, if they meet it. In 3D each time goes to
+/// `nearest` in the list's order, which decides ties as the x86-64-v3 scan does (one root
+/// there for four lanes, whichever each needs). In 2D, which has no such scan, the contact
+/// terms of those outside every step go to `nearest` as a hard core's do, without a branch,
+/// the roots worked out only for those that meet (3% faster for the square-well fluid of
+/// BENCHMARKS.md at N = 10^4 than a root each as they come).
 #[inline(always)]
 pub(super) fn scan_stepped<const D: usize, const FAR: bool>(
     body: &[super::Body<D>],
@@ -354,10 +369,14 @@ pub(super) fn scan_stepped<const D: usize, const FAR: bool>(
         let sigma = radius + bj.radius;
         if s == 0 {
             let reach = steps.outer[row + species[j as usize] as usize].max(sigma);
-            nearest.offer(
-                j as usize,
-                crate::predict::contact_terms::<D, FAR>(dr, dv, reach),
-            );
+            let terms = crate::predict::contact_terms::<D, FAR>(dr, dv, reach);
+            if D == 3 {
+                if terms.meets() {
+                    nearest.take(t0 + crate::predict::contact_root(terms), j);
+                }
+            } else {
+                nearest.offer(j as usize, terms);
+            }
             continue;
         }
         // Only pairs with steps are ever in a shell above 0.
@@ -399,6 +418,7 @@ impl<const D: usize> Simulation<D> {
             let c = self.grid.coord_of(steps.centre[i]);
             self.grid.insert(i, c);
         }
+        steps.filed.refile(&self.grid, &steps.centre);
         for i in 0..n {
             let mut found = Vec::new();
             let (c, ci) = (self.grid.cell_of(i), steps.centre[i]);
@@ -447,9 +467,18 @@ impl<const D: usize> Simulation<D> {
         let steps = self.steps.as_deref_mut().expect("a stepped simulation");
         steps.centre[i] = p;
         let c = self.grid.coord_of(p);
-        if c != self.grid.cell_of(i) {
+        let was = self.grid.cell_of(i);
+        let k = self.grid.index_of(c);
+        if c != was {
             self.grid.remove(i);
             self.grid.insert(i, c);
+            if D == 3 {
+                let from = self.grid.index_of(was);
+                steps.filed.unfile(from, i as u32, &steps.centre);
+                steps.filed.file(k, i as u32, p);
+            }
+        } else if D == 3 {
+            steps.filed.moved(k, i as u32, p);
         }
         let mut new = std::mem::take(&mut steps.spare);
         new.clear();
@@ -458,7 +487,7 @@ impl<const D: usize> Simulation<D> {
         #[cfg(not(target_arch = "x86_64"))]
         let simd = false;
         if simd {
-            // The cells' first four spheres at a time, the same spheres found
+            // The centres filed in the cells, four at a time, the same spheres found
             // (`steps_x86.rs`).
             #[cfg(target_arch = "x86_64")]
             // SAFETY: `v3` is only set when the processor has AVX2 (`set_portable_loop`).
