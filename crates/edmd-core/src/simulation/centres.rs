@@ -77,8 +77,8 @@ impl Centres {
         }
     }
 
-    /// Takes sphere `j` out of cell `k`; a sphere beyond the slots takes its place, its
-    /// centre read from `centre`.
+    /// Takes sphere `j` out of cell `k`, where it must be filed (checked in debug builds);
+    /// a sphere beyond the slots takes its place, its centre read from `centre`.
     pub(super) fn unfile<const D: usize>(&mut self, k: usize, j: u32, centre: &[Vector<D>]) {
         let cell = &mut self.cells[k];
         let len = cell.len as usize;
@@ -91,8 +91,12 @@ impl Centres {
                 cell.put(s, id, [x, y, z]);
                 cell.len -= 1;
             }
-        } else if let Some(s) = cell.more.iter().position(|&x| x == j) {
-            cell.more.swap_remove(s);
+        } else {
+            let s = cell.more.iter().position(|&x| x == j);
+            debug_assert!(s.is_some(), "sphere {j} is not filed in cell {k}");
+            if let Some(s) = s {
+                cell.more.swap_remove(s);
+            }
         }
     }
 
@@ -101,6 +105,12 @@ impl Centres {
         let cell = &mut self.cells[k];
         if let Some(s) = cell.id[..cell.len as usize].iter().position(|&x| x == j) {
             cell.put(s, j, xyz(c));
+        } else {
+            // One beyond the slots has its centre read from `Steps::centre`.
+            debug_assert!(
+                cell.more.contains(&j),
+                "sphere {j} is not filed in cell {k}"
+            );
         }
     }
 
