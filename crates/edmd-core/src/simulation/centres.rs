@@ -59,7 +59,13 @@ impl Centres {
         if D != 3 {
             return;
         }
-        self.cells.resize_with(grid.cell_count(), Cell::default);
+        let n = grid.cell_count();
+        if self.cells.capacity() < n {
+            // Read at random by every list made: past the TLB's reach, huge pages.
+            self.cells = Vec::with_capacity(n);
+            crate::hint::huge_pages(&mut self.cells);
+        }
+        self.cells.resize_with(n, Cell::default);
         for (j, &c) in centre.iter().enumerate() {
             self.file(grid.index_of(grid.cell_of(j)), j as u32, c);
         }

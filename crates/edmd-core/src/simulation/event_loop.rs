@@ -412,8 +412,8 @@ impl<const D: usize> Simulation<D> {
 
     /// [`Self::prefetch_upcoming`] under a stepped potential, whose predictions read the
     /// discs' neighbour lists rather than the grid. A pipeline as there: the third disc's
-    /// record and the head of its list; the second disc's list and its partner's record and
-    /// list head; the records of the first disc's neighbours. Hints only.
+    /// record and list; the second disc's list and its partner's record and list; the records
+    /// of the first disc's neighbours. Hints only.
     #[inline(always)]
     fn prefetch_upcoming_listed(&self) {
         let steps = self.steps.as_deref().expect("a stepped simulation");
@@ -421,24 +421,37 @@ impl<const D: usize> Simulation<D> {
         let (Some(k1), k2, k3) = (up.next(), up.next(), up.next()) else {
             return;
         };
+        // A list's row is found from the disc alone: its first three lines (the length and
+        // 23 neighbours) asked for at once.
+        let row = |k: usize| {
+            let row = steps.near.row(k);
+            for e in row.iter().step_by(8).take(3) {
+                prefetch(e);
+            }
+        };
         if let Some(k3) = k3 {
             self.prefetch_record(k3);
-            prefetch(&steps.near[k3]);
+            row(k3);
+            // The list centre, read by the prediction (the list's departure).
+            prefetch(&steps.centre[k3]);
         }
         if let Some(k2) = k2 {
-            let list = &steps.near[k2];
-            if let Some(first) = list.first() {
-                prefetch(first);
-                if list.len() > 8 {
-                    prefetch(&list[8]);
+            row(k2);
+            if let Pending::Disc { partner, .. } = self.body[k2].pending {
+                let p = partner as usize;
+                self.prefetch_record(p);
+                row(p);
+                prefetch(&steps.centre[p]);
+                // The masses, read at the event, and the second event, read if this one
+                // has gone stale.
+                prefetch(&self.mass[k2]);
+                prefetch(&self.mass[p]);
+                if D == 3 {
+                    prefetch(&self.second[k2]);
                 }
             }
-            if let Pending::Disc { partner, .. } = self.body[k2].pending {
-                self.prefetch_record(partner as usize);
-                prefetch(&steps.near[partner as usize]);
-            }
         }
-        for &(j, _) in &steps.near[k1] {
+        for &(j, _) in steps.near.get(k1) {
             prefetch(&self.body[j as usize]);
         }
     }

@@ -37,6 +37,7 @@ mod event_loop;
 mod field;
 mod images;
 mod inelastic;
+mod lists;
 mod options;
 mod per_disc;
 mod persist;

@@ -781,7 +781,7 @@ impl<const D: usize> Simulation<D> {
                     list.push((j, sh));
                 }
                 if version >= 5 {
-                    st.near[i] = list;
+                    st.near.set(i, &list);
                 } else {
                     list.sort_unstable_by_key(|e| e.0);
                     v4.push(list);

@@ -11,8 +11,9 @@
 //! event of its own ([`leash_time`]), so two discs that can come within reach before either list
 //! is made again are in both lists. The grid files each disc by its centre, which moves only
 //! then, so stepped runs have no cell crossings; the grid serves to make lists. Lists are kept
-//! in order and symmetric; a list made again changes only the lists of the discs that come or
-//! go, and a pair inside a step stays listed whatever its centres.
+//! in order and symmetric (each in its disc's row of one array, `lists.rs`); a list made again
+//! changes only the lists of the discs that come or go, and a pair inside a step stays listed
+//! whatever its centres.
 //!
 //! # The shell of a pair is a state, never a distance
 //! A pair's shell (how many of its steps it is inside, 0 outside them all) is kept for every
@@ -42,6 +43,7 @@ use crate::events::{EventKind, EventRecord, StepHit};
 use crate::math::{select, Vector};
 use crate::state::{Disc, Potential, SimBox};
 
+use super::lists::{find, Entry, Lists};
 use super::Simulation;
 
 /// The skin of the neighbour lists, in largest diameters: a disc's list holds the discs
@@ -76,7 +78,7 @@ pub(super) struct Steps<const D: usize> {
     /// Per disc, its neighbours in increasing order, each with the pair's shell (0 outside
     /// every step): every disc whose list centre is within [`Self::list_radius`] of its own,
     /// and every disc it shares a shell above 0 with. Both discs of a pair list it.
-    pub(super) near: Vec<Vec<(u32, u8)>>,
+    pub(super) near: Lists,
     /// Per disc, where its list was made (inside the box on periodic axes). The grid files
     /// each disc by this, not by where it is.
     pub(super) centre: Vec<Vector<D>>,
@@ -89,8 +91,8 @@ pub(super) struct Steps<const D: usize> {
     /// nearest image of a neighbour.
     pub(super) lengths: [f64; D],
     pub(super) half: [f64; D],
-    /// A spare list, so that making a list again allocates nothing.
-    spare: Vec<(u32, u8)>,
+    /// Spare lists, so that making a list again allocates nothing.
+    spare: [Vec<Entry>; 2],
     /// In 3D, the centres filed by cell as the grid files them (`centres.rs`), for the
     /// x86-64-v3 list-making.
     pub(super) filed: super::centres::Centres,
@@ -115,15 +117,9 @@ pub(super) struct Edges {
     pub(super) rows: Vec<[f64; 4]>,
 }
 
-/// Where `j` is in a sorted neighbour list.
-#[inline(always)]
-fn find(list: &[(u32, u8)], j: u32) -> Result<usize, usize> {
-    list.binary_search_by_key(&j, |e| e.0)
-}
-
 /// The shell of the pair (`list` is one disc's list, `j` the other disc).
 #[inline(always)]
-pub(super) fn shell_in(list: &[(u32, u8)], j: u32) -> u8 {
+pub(super) fn shell_in(list: &[Entry], j: u32) -> u8 {
     find(list, j).map_or(0, |k| list[k].1)
 }
 
@@ -247,6 +243,15 @@ impl<const D: usize> Steps<D> {
             }
         }
         let skin = skin.max(1e-3 * reach);
+        let list_radius = (reach + skin) * (1.0 + EPS);
+        // The lists' expected length at the mean density, for their rows' width.
+        let volume: f64 = sim_box.lengths.iter().product();
+        let ball = match D {
+            1 => 2.0 * list_radius,
+            2 => std::f64::consts::PI * list_radius.powi(2),
+            _ => 4.0 / 3.0 * std::f64::consts::PI * list_radius.powi(3),
+        };
+        let expected = discs.len() as f64 * (ball / volume).min(1.0);
         let uniform = (species == 1 && tables.len() == 1).then(|| {
             let t = &tables[0];
             let m = t.r.len();
@@ -273,10 +278,10 @@ impl<const D: usize> Steps<D> {
             index,
             tables,
             outer,
-            near: vec![Vec::new(); discs.len()],
-            centre: vec![Vector::ZERO; discs.len()],
+            near: Lists::new(discs.len(), expected),
+            centre: crate::hint::filled(Vector::ZERO, discs.len()),
             leash: 0.5 * skin,
-            list_radius: (reach + skin) * (1.0 + EPS),
+            list_radius,
             lengths: sim_box.lengths,
             half: std::array::from_fn(|a| {
                 if sim_box.is_periodic(a) {
@@ -285,7 +290,7 @@ impl<const D: usize> Steps<D> {
                     f64::INFINITY
                 }
             }),
-            spare: Vec::new(),
+            spare: Default::default(),
             filed: Default::default(),
             uniform,
         })
@@ -312,13 +317,8 @@ impl<const D: usize> Steps<D> {
 
     /// Sets the shell of the pair `i`, `j` (0: outside every step, still neighbours).
     pub(super) fn set_shell(&mut self, i: usize, j: usize, s: u8) {
-        for (x, y) in [(i, j), (j, i)] {
-            let list = &mut self.near[x];
-            match find(list, y as u32) {
-                Ok(k) => list[k].1 = s,
-                Err(k) => list.insert(k, (y as u32, s)),
-            }
-        }
+        self.near.put(i, j as u32, s);
+        self.near.put(j, i as u32, s);
     }
 
     /// The potential energy of a pair in shell `s` of `table`.
@@ -328,8 +328,7 @@ impl<const D: usize> Steps<D> {
 
     /// Bytes held by the lists.
     pub(super) fn memory_bytes(&self) -> usize {
-        self.near.capacity() * size_of::<Vec<(u32, u8)>>()
-            + self.near.iter().map(|l| l.capacity() * 8).sum::<usize>()
+        self.near.memory_bytes()
             + self.centre.capacity() * size_of::<Vector<D>>()
             + self.filed.memory_bytes()
     }
@@ -362,7 +361,7 @@ pub(super) fn scan_stepped<const D: usize, const FAR: bool>(
     let (pos, vel, radius) = (body[i].pos, body[i].vel, body[i].radius);
     let own_species = species[i];
     let row = own_species as usize * steps.species;
-    for &(j, s) in &steps.near[i] {
+    for &(j, s) in steps.near.get(i) {
         let bj = &body[j as usize];
         let dr = steps.nearest_image(bj.position_at(t0) - pos);
         let dv = bj.vel - vel;
@@ -411,7 +410,6 @@ impl<const D: usize> Simulation<D> {
             let image = wrap_into(&mut b.pos, &self.sim_box, self.image.get(i));
             self.image.set(i, image);
             steps.centre[i] = b.pos;
-            steps.near[i].clear();
         }
         self.grid.clear();
         for i in 0..n {
@@ -419,6 +417,7 @@ impl<const D: usize> Simulation<D> {
             self.grid.insert(i, c);
         }
         steps.filed.refile(&self.grid, &steps.centre);
+        let mut near: Vec<Vec<Entry>> = vec![Vec::new(); n];
         for i in 0..n {
             let mut found = Vec::new();
             let (c, ci) = (self.grid.cell_of(i), steps.centre[i]);
@@ -435,12 +434,14 @@ impl<const D: usize> Simulation<D> {
                 found.push((j, s));
             });
             for (j, s) in found {
-                steps.near[i].push((j as u32, s));
-                steps.near[j].push((i as u32, s));
+                near[i].push((j as u32, s));
+                near[j].push((i as u32, s));
             }
         }
-        for list in &mut steps.near {
+        steps.near.clear();
+        for (i, list) in near.iter_mut().enumerate() {
             list.sort_unstable_by_key(|e| e.0);
+            steps.near.set(i, list);
         }
         // Pairs a caller keeps in a shell stay neighbours whatever their centres.
         if let Some(k) = keep {
@@ -480,8 +481,10 @@ impl<const D: usize> Simulation<D> {
         } else if D == 3 {
             steps.filed.moved(k, i as u32, p);
         }
-        let mut new = std::mem::take(&mut steps.spare);
+        let [mut new, mut old] = std::mem::take(&mut steps.spare);
         new.clear();
+        old.clear();
+        old.extend_from_slice(steps.near.get(i));
         #[cfg(target_arch = "x86_64")]
         let simd = D == 3 && self.v3;
         #[cfg(not(target_arch = "x86_64"))]
@@ -506,7 +509,6 @@ impl<const D: usize> Simulation<D> {
         // The old and new lists side by side (both in order): a pair in both keeps its shell
         // and its place in the other disc's list; a pair inside a step stays whatever its
         // centres; only the pairs that come or go touch the other disc's list.
-        let old = std::mem::take(&mut steps.near[i]);
         let (mut a, mut b) = (0, 0);
         while a < old.len() || b < new.len() {
             let (jo, so) = old.get(a).copied().unwrap_or((u32::MAX, 0));
@@ -520,22 +522,16 @@ impl<const D: usize> Simulation<D> {
                     new.insert(b, (jo, so));
                     b += 1;
                 } else {
-                    let list = &mut steps.near[jo as usize];
-                    if let Ok(k) = find(list, i as u32) {
-                        list.remove(k);
-                    }
+                    steps.near.remove(jo as usize, i as u32);
                 }
                 a += 1;
             } else {
-                let list = &mut steps.near[jn as usize];
-                if let Err(k) = find(list, i as u32) {
-                    list.insert(k, (i as u32, 0));
-                }
+                steps.near.join(jn as usize, i as u32);
                 b += 1;
             }
         }
-        steps.near[i] = new;
-        steps.spare = old;
+        steps.near.set(i, &new);
+        steps.spare = [new, old];
         self.stats.neighbour_list = self.stats.neighbour_list.wrapping_add(1);
         EventRecord {
             time: t,
@@ -588,7 +584,8 @@ impl<const D: usize> Simulation<D> {
     /// The discs disc `i` shares a shell above 0 with, and the shell (for drawing bonds).
     pub fn partners_of(&self, i: usize) -> Vec<(usize, u8)> {
         self.steps.as_ref().map_or_else(Vec::new, |s| {
-            s.near[i]
+            s.near
+                .get(i)
                 .iter()
                 .filter(|e| e.1 > 0)
                 .map(|&(j, sh)| (j as usize, sh))
@@ -624,7 +621,7 @@ impl<const D: usize> Simulation<D> {
         let mut out = Vec::new();
         for i in 0..self.body.len() {
             let pi = self.body[i].position_at(now);
-            let list = &steps.near[i];
+            let list = steps.near.get(i);
             self.grid.for_each_near(self.grid.cell_of(i), |j, _| {
                 if j <= i {
                     return;
@@ -663,7 +660,8 @@ impl<const D: usize> Simulation<D> {
                 if s as usize > m {
                     return Some(format!("disc {i}: shell {s} with disc {j}"));
                 }
-                if find(&steps.near[ju], i as u32).map(|x| steps.near[ju][x].1) != Ok(s) {
+                let other = steps.near.get(ju);
+                if find(other, i as u32).map(|x| other[x].1) != Ok(s) {
                     return Some(format!("discs {i} and {j}: lists that disagree"));
                 }
             }
@@ -697,7 +695,7 @@ impl<const D: usize> Simulation<D> {
         let Some(table) = steps.table(self.species[i], self.species[j]) else {
             return self.collide(i, j, t);
         };
-        let s = shell_in(&steps.near[i], j as u32) as usize;
+        let s = shell_in(steps.near.get(i), j as u32) as usize;
         let m = table.r.len();
         let dr = steps.nearest_image(self.body[j].pos - self.body[i].pos);
         let r2 = dr.norm2();

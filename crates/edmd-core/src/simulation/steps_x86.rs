@@ -31,8 +31,9 @@ use super::scan_x86::columns;
 use super::steps::{Edges, Steps};
 use super::Body;
 
-/// From how many spheres the scan asks for its neighbours' records before it reads them:
-/// where the records outgrow a core's L2 cache (as `scan_x86::FETCH_FROM`).
+/// From how many spheres the scan asks for its neighbours' records, and the list-making for
+/// its cells, before it reads them: where those outgrow a core's L2 cache (as
+/// `scan_x86::FETCH_FROM`).
 const FETCH_FROM: usize = 1 << 14;
 
 /// Sphere `i`'s neighbours (`i` advanced to `t0`), their event times handed to `nearest` as
@@ -61,7 +62,7 @@ pub(super) unsafe fn scan<const D: usize>(
         unreachable!("the x86-64-v3 stepped scan is for one table");
     };
     let own = &body[i];
-    let list = &steps.near[i];
+    let list = steps.near.get(i);
     if body.len() >= FETCH_FROM {
         // Every neighbour's record asked for before the first is read.
         for &(j, _) in list {
@@ -215,6 +216,17 @@ pub(super) unsafe fn listed<const D: usize>(
     let limit = steps.list_radius * steps.list_radius;
     let cells = &steps.filed.cells;
     let centre = &steps.centre;
+    if centre.len() >= FETCH_FROM {
+        // Every line of the 27 cells asked for before the first is read, so that their
+        // misses overlap; below, the cells are in the L2 cache already.
+        grid.for_each_cell_near(c, |k, _| {
+            let cell = &cells[k];
+            crate::hint::prefetch(&cell.x);
+            crate::hint::prefetch(&cell.y);
+            crate::hint::prefetch(&cell.z);
+            crate::hint::prefetch(&cell.id);
+        });
+    }
     grid.for_each_cell_near(
         c,
         #[inline(always)]
