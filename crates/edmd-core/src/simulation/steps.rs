@@ -91,8 +91,9 @@ pub(super) struct Steps<const D: usize> {
     /// nearest image of a neighbour.
     pub(super) lengths: [f64; D],
     pub(super) half: [f64; D],
-    /// Spare lists, so that making a list again allocates nothing.
-    spare: [Vec<Entry>; 2],
+    /// Spare lists, so that making a list again allocates nothing: the spheres found, the
+    /// old list and the new one.
+    spare: (Vec<u32>, Vec<Entry>, Vec<Entry>),
     /// In 3D, the centres filed by cell as the grid files them (`centres.rs`), for the
     /// x86-64-v3 list-making.
     pub(super) filed: super::centres::Centres,
@@ -481,9 +482,10 @@ impl<const D: usize> Simulation<D> {
         } else if D == 3 {
             steps.filed.moved(k, i as u32, p);
         }
-        let [mut new, mut old] = std::mem::take(&mut steps.spare);
-        new.clear();
+        let (mut found, mut old, mut new) = std::mem::take(&mut steps.spare);
+        found.clear();
         old.clear();
+        new.clear();
         old.extend_from_slice(steps.near.get(i));
         #[cfg(target_arch = "x86_64")]
         let simd = D == 3 && self.v3;
@@ -496,42 +498,42 @@ impl<const D: usize> Simulation<D> {
             // SAFETY: `v3` is only set when the processor has AVX2 (`set_portable_loop`).
             #[allow(unsafe_code)]
             unsafe {
-                super::steps_x86::listed(&self.grid, steps, c, p, i, &mut new)
+                super::steps_x86::listed(&self.grid, steps, c, p, i, &mut found)
             };
         } else {
             for_each_listed(&self.grid, steps, c, p, |j, _| {
                 if j != i {
-                    new.push((j as u32, 0));
+                    found.push(j as u32);
                 }
             });
         }
-        new.sort_unstable_by_key(|e| e.0);
-        // The old and new lists side by side (both in order): a pair in both keeps its shell
-        // and its place in the other disc's list; a pair inside a step stays whatever its
-        // centres; only the pairs that come or go touch the other disc's list.
+        found.sort_unstable();
+        // The old list and the spheres found side by side (both in order): a pair in both
+        // keeps its shell and its place in the other disc's list; a pair inside a step stays
+        // whatever its centres; only the pairs that come or go touch the other disc's list.
         let (mut a, mut b) = (0, 0);
-        while a < old.len() || b < new.len() {
+        while a < old.len() || b < found.len() {
             let (jo, so) = old.get(a).copied().unwrap_or((u32::MAX, 0));
-            let jn = new.get(b).map_or(u32::MAX, |e| e.0);
+            let jn = found.get(b).copied().unwrap_or(u32::MAX);
             if jo == jn {
-                new[b].1 = so;
+                new.push((jo, so));
                 a += 1;
                 b += 1;
             } else if jo < jn {
                 if so > 0 {
-                    new.insert(b, (jo, so));
-                    b += 1;
+                    new.push((jo, so));
                 } else {
                     steps.near.remove(jo as usize, i as u32);
                 }
                 a += 1;
             } else {
+                new.push((jn, 0));
                 steps.near.join(jn as usize, i as u32);
                 b += 1;
             }
         }
         steps.near.set(i, &new);
-        steps.spare = [new, old];
+        steps.spare = (found, old, new);
         self.stats.neighbour_list = self.stats.neighbour_list.wrapping_add(1);
         EventRecord {
             time: t,

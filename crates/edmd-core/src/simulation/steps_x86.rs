@@ -185,7 +185,7 @@ fn lanes(
     out
 }
 
-/// Pushes `(j, 0)` onto `out` for every sphere `j` other than `i` filed in the cells around
+/// Pushes `j` onto `out` for every sphere `j` other than `i` filed in the cells around
 /// `c` whose list centre is nearer `p` than the lists' radius: the spheres of `i`'s list made
 /// at `p` (`for_each_listed` in `steps.rs`, in another order). The centres are read from the
 /// cells ([`super::centres`]) four at a time, and their distances worked out on four lanes in
@@ -201,7 +201,7 @@ pub(super) unsafe fn listed<const D: usize>(
     c: CellCoord<D>,
     p: Vector<D>,
     i: usize,
-    out: &mut Vec<(u32, u8)>,
+    out: &mut Vec<u32>,
 ) {
     assert!(D == 3);
     // SAFETY: `D` is 3, so these are the same types.
@@ -230,18 +230,18 @@ pub(super) unsafe fn listed<const D: usize>(
     grid.for_each_cell_near(
         c,
         #[inline(always)]
-        |k, _| {
+        |k, shift| {
             let cell = &cells[k];
             let len = cell.len as usize;
             let mut g = 0;
             while g < len {
-                let mut hits = within(cell, g, steps, p, limit) & ((1u32 << (len - g).min(4)) - 1);
+                let mut hits = within(cell, g, shift, p, limit) & ((1u32 << (len - g).min(4)) - 1);
                 while hits != 0 {
                     let l = hits.trailing_zeros() as usize;
                     hits &= hits - 1;
                     let j = cell.id[g + l];
                     if j as usize != i {
-                        out.push((j, 0));
+                        out.push(j);
                     }
                 }
                 g += 4;
@@ -249,7 +249,7 @@ pub(super) unsafe fn listed<const D: usize>(
             for &j in &cell.more {
                 let ju = j as usize;
                 if ju != i && steps.nearest_image(centre[ju] - p).norm2() < limit {
-                    out.push((j, 0));
+                    out.push(j);
                 }
             }
         },
@@ -257,22 +257,22 @@ pub(super) unsafe fn listed<const D: usize>(
 }
 
 /// Which of the four centres from slot `g` of `cell` are nearer `p` than `sqrt(limit)`, as a
-/// bit mask: `Steps::nearest_image`, then `norm2` summed from the first square (the scalar
-/// one starts from `0.0`, and `0.0 + x` is `x` for a square).
+/// bit mask: the displacement, plus the cell's `shift` to its image around `p` (`-0.0`, or a
+/// box length across a periodic side), then `norm2` summed from the first square (the
+/// scalar one starts from `0.0`, and `0.0 + x` is `x` for a square). For a centre within the
+/// lists' radius the shift is `Steps::nearest_image`'s choice, in the same operation (`d - l`
+/// is `d + (-l)`, and `d + (-0.0)` is `d`), so the same spheres are found; the image of one
+/// beyond it may differ, but it is beyond it either way (the cells are a list radius wide).
 #[target_feature(enable = "avx,avx2,fma,bmi1,bmi2,lzcnt,popcnt,movbe")]
 #[inline]
-fn within(cell: &Cell, g: usize, steps: &Steps<3>, p: Vector<3>, limit: f64) -> u32 {
+fn within(cell: &Cell, g: usize, shift: Vector<3>, p: Vector<3>, limit: f64) -> u32 {
     let mut r2 = _mm256_setzero_pd();
     for (a, column) in [&cell.x, &cell.y, &cell.z].into_iter().enumerate() {
         let four = &column[g..g + 4];
         // SAFETY: four `f64`s.
         let d = unsafe { _mm256_loadu_pd(four.as_ptr()) };
-        let (l, h) = (_mm256_set1_pd(steps.lengths[a]), steps.half[a]);
         let d = _mm256_sub_pd(d, _mm256_set1_pd(p[a]));
-        let down = _mm256_cmp_pd::<_CMP_GT_OQ>(d, _mm256_set1_pd(h));
-        let up = _mm256_cmp_pd::<_CMP_LT_OQ>(d, _mm256_set1_pd(-h));
-        let near = _mm256_blendv_pd(d, _mm256_add_pd(d, l), up);
-        let d = _mm256_blendv_pd(near, _mm256_sub_pd(d, l), down);
+        let d = _mm256_add_pd(d, _mm256_set1_pd(shift[a]));
         let sq = _mm256_mul_pd(d, d);
         r2 = if a == 0 { sq } else { _mm256_add_pd(r2, sq) };
     }
