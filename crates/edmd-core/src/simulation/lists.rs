@@ -55,7 +55,7 @@ impl Lists {
     /// Disc `i`'s list.
     #[inline(always)]
     pub(super) fn get(&self, i: usize) -> &[Entry] {
-        let row = &self.rows[i * self.width..(i + 1) * self.width];
+        let row = self.row(i);
         let len = row[0].0;
         if len == SPILLED {
             &self.spilled[&(i as u32)]
@@ -77,18 +77,26 @@ impl Lists {
 
     /// Makes disc `i`'s list `list` (in order).
     pub(super) fn set(&mut self, i: usize, list: &[Entry]) {
+        if !self.place(i, list) {
+            self.widen_if_crowded();
+        }
+    }
+
+    /// Writes `list` into disc `i`'s row, or holds it apart if it does not fit there (false).
+    fn place(&mut self, i: usize, list: &[Entry]) -> bool {
         let w = self.width;
         let row = &mut self.rows[i * w..(i + 1) * w];
+        if row[0].0 == SPILLED {
+            self.spilled.remove(&(i as u32));
+        }
         if list.len() < w {
-            if row[0].0 == SPILLED {
-                self.spilled.remove(&(i as u32));
-            }
             row[0].0 = list.len() as u32;
             row[1..1 + list.len()].copy_from_slice(list);
+            true
         } else {
             row[0].0 = SPILLED;
             self.spilled.insert(i as u32, list.to_vec());
-            self.widen_if_crowded();
+            false
         }
     }
 
@@ -103,15 +111,7 @@ impl Lists {
             self.rows.resize(n * self.width, (0, 0));
             self.spilled.clear();
             for (i, l) in lists.iter().enumerate() {
-                let w = self.width;
-                let row = &mut self.rows[i * w..(i + 1) * w];
-                if l.len() < w {
-                    row[0].0 = l.len() as u32;
-                    row[1..1 + l.len()].copy_from_slice(l);
-                } else {
-                    row[0].0 = SPILLED;
-                    self.spilled.insert(i as u32, l.clone());
-                }
+                self.place(i, l);
             }
         }
     }
@@ -160,9 +160,7 @@ impl Lists {
             Err(k) => {
                 let mut list = row[1..1 + len].to_vec();
                 list.insert(k, (j, s));
-                row[0].0 = SPILLED;
-                self.spilled.insert(i as u32, list);
-                self.widen_if_crowded();
+                self.set(i, &list);
             }
         }
     }
