@@ -637,7 +637,8 @@ impl<const D: usize> CellGrid<D> {
                     } else {
                         self.lengths[a]
                     };
-                    x = x.rem_euclid(d);
+                    // One cell past either end: a division (`rem_euclid`) cost more.
+                    x = if x < 0 { x + d } else { x - d };
                 }
                 term[a][m] = x as usize * self.stride[a];
             }
@@ -700,7 +701,8 @@ impl<const D: usize> CellGrid<D> {
                     } else {
                         self.lengths[a]
                     };
-                    x = x.rem_euclid(d);
+                    // One cell past either end: a division (`rem_euclid`) cost more.
+                    x = if x < 0 { x + d } else { x - d };
                 }
                 term[a][m] = x as usize * self.stride[a];
             }

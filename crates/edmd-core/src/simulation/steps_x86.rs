@@ -25,7 +25,7 @@ use crate::cells::grid::CellCoord;
 use crate::cells::CellGrid;
 use crate::math::Vector;
 
-use super::centres::Cell;
+use super::centres::{Cell, SLOTS};
 use super::predict::Nearest;
 use super::scan_x86::columns;
 use super::steps::{Edges, Steps};
@@ -227,25 +227,21 @@ pub(super) unsafe fn listed<const D: usize>(
             crate::hint::prefetch(&cell.id);
         });
     }
+    let at = p.0.map(|x| _mm256_set1_pd(x));
+    let under = _mm256_set1_pd(limit);
     grid.for_each_cell_near(
         c,
         #[inline(always)]
         |k, shift| {
             let cell = &cells[k];
+            // The cell's eight slots at once, those past its length and `i` itself masked
+            // off: a loop over the slots it holds mispredicted its end at nearly every cell.
             let len = cell.len as usize;
-            let mut g = 0;
-            while g < len {
-                let mut hits = within(cell, g, shift, p, limit) & ((1u32 << (len - g).min(4)) - 1);
-                while hits != 0 {
-                    let l = hits.trailing_zeros() as usize;
-                    hits &= hits - 1;
-                    let j = cell.id[g + l];
-                    if j as usize != i {
-                        out.push(j);
-                    }
-                }
-                g += 4;
-            }
+            let shift = shift.0.map(|x| _mm256_set1_pd(x));
+            let hits = (within(cell, 0, shift, at, under) | within(cell, 4, shift, at, under) << 4)
+                & ((1u32 << len) - 1)
+                & !slot_of(cell, i as u32);
+            push_hits(out, &cell.id, hits);
             for &j in &cell.more {
                 let ju = j as usize;
                 if ju != i && steps.nearest_image(centre[ju] - p).norm2() < limit {
@@ -254,6 +250,71 @@ pub(super) unsafe fn listed<const D: usize>(
             }
         },
     );
+}
+
+/// For each of the 16 masks of four lanes, the bytes of `_mm_shuffle_epi8` that gather the
+/// lanes set, in order, to the front.
+const GATHER: [[u8; 16]; 16] = {
+    let mut table = [[0x80u8; 16]; 16];
+    let mut m = 0;
+    while m < 16 {
+        let mut to = 0;
+        let mut lane = 0;
+        while lane < 4 {
+            if m & (1 << lane) != 0 {
+                let mut b = 0;
+                while b < 4 {
+                    table[m][4 * to + b] = (4 * lane + b) as u8;
+                    b += 1;
+                }
+                to += 1;
+            }
+            lane += 1;
+        }
+        m += 1;
+    }
+    table
+};
+
+/// Appends to `out` the ids of the slots whose bits are set in `hits` (eight bits), in order
+/// of slot, without a branch on the mask: each half's ids gathered to the front and stored
+/// whole, the next store starting past those kept.
+#[target_feature(enable = "avx,avx2,fma,bmi1,bmi2,lzcnt,popcnt,movbe")]
+#[inline]
+fn push_hits(out: &mut Vec<u32>, id: &[u32; SLOTS], hits: u32) {
+    const { assert!(SLOTS == 8) };
+    out.reserve(SLOTS);
+    let len = out.len();
+    let (low, high) = ((hits & 15) as usize, (hits >> 4 & 15) as usize);
+    // SAFETY: eight `u32`s read from `id`; the two 16-byte stores end at most eight `u32`s
+    // past `len`, within the capacity just reserved, and only the ones kept are counted.
+    unsafe {
+        let ids = _mm256_loadu_si256(id.as_ptr().cast());
+        let to = out.as_mut_ptr().add(len);
+        let first = _mm_shuffle_epi8(
+            _mm256_castsi256_si128(ids),
+            _mm_loadu_si128(GATHER[low].as_ptr().cast()),
+        );
+        _mm_storeu_si128(to.cast(), first);
+        let kept = low.count_ones() as usize;
+        let second = _mm_shuffle_epi8(
+            _mm256_extracti128_si256::<1>(ids),
+            _mm_loadu_si128(GATHER[high].as_ptr().cast()),
+        );
+        _mm_storeu_si128(to.add(kept).cast(), second);
+        out.set_len(len + kept + high.count_ones() as usize);
+    }
+}
+
+/// The slots of `cell` that hold sphere `i`, as a bit mask (the sphere is not its own
+/// neighbour).
+#[target_feature(enable = "avx,avx2,fma,bmi1,bmi2,lzcnt,popcnt,movbe")]
+#[inline]
+fn slot_of(cell: &Cell, i: u32) -> u32 {
+    // SAFETY: eight `u32`s.
+    let ids = unsafe { _mm256_loadu_si256(cell.id.as_ptr().cast()) };
+    let same = _mm256_cmpeq_epi32(ids, _mm256_set1_epi32(i as i32));
+    _mm256_movemask_ps(_mm256_castsi256_ps(same)) as u32
 }
 
 /// Which of the four centres from slot `g` of `cell` are nearer `p` than `sqrt(limit)`, as a
@@ -265,16 +326,37 @@ pub(super) unsafe fn listed<const D: usize>(
 /// beyond it may differ, but it is beyond it either way (the cells are a list radius wide).
 #[target_feature(enable = "avx,avx2,fma,bmi1,bmi2,lzcnt,popcnt,movbe")]
 #[inline]
-fn within(cell: &Cell, g: usize, shift: Vector<3>, p: Vector<3>, limit: f64) -> u32 {
+fn within(cell: &Cell, g: usize, shift: [__m256d; 3], p: [__m256d; 3], limit: __m256d) -> u32 {
     let mut r2 = _mm256_setzero_pd();
     for (a, column) in [&cell.x, &cell.y, &cell.z].into_iter().enumerate() {
         let four = &column[g..g + 4];
         // SAFETY: four `f64`s.
         let d = unsafe { _mm256_loadu_pd(four.as_ptr()) };
-        let d = _mm256_sub_pd(d, _mm256_set1_pd(p[a]));
-        let d = _mm256_add_pd(d, _mm256_set1_pd(shift[a]));
+        let d = _mm256_add_pd(_mm256_sub_pd(d, p[a]), shift[a]);
         let sq = _mm256_mul_pd(d, d);
         r2 = if a == 0 { sq } else { _mm256_add_pd(r2, sq) };
     }
-    _mm256_movemask_pd(_mm256_cmp_pd::<_CMP_LT_OQ>(r2, _mm256_set1_pd(limit))) as u32
+    _mm256_movemask_pd(_mm256_cmp_pd::<_CMP_LT_OQ>(r2, limit)) as u32
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_slots_kept_are_appended_in_order_of_slot() {
+        if !crate::simulation::x86_64_v3_available() {
+            return;
+        }
+        let id: [u32; SLOTS] = [10, 11, 12, 13, 14, 15, 16, 17];
+        for hits in 0..256u32 {
+            let mut out = vec![7];
+            // SAFETY: the processor has AVX2 (checked above).
+            unsafe { push_hits(&mut out, &id, hits) };
+            let want: Vec<u32> = std::iter::once(7)
+                .chain((0..SLOTS).filter(|&s| hits >> s & 1 == 1).map(|s| id[s]))
+                .collect();
+            assert_eq!(out, want, "mask {hits:08b}");
+        }
+    }
 }
