@@ -545,9 +545,11 @@ impl<'a> Nearest<'a> {
         let next = ((t < self.second_t) as u32).wrapping_neg();
         // The second: the old best if `t` beats it, else `t` if it beats the second.
         self.second = (self.partner & keep) | (!keep & ((w & next) | (self.second & !next)));
-        self.second_t = self.second_t.min(self.best_t.max(t));
+        // Times are never NaN, so `min` and `max` need not look for one (`f64::min` does, at
+        // two more instructions on the chain from one candidate to the next).
+        self.second_t = least(self.second_t, greatest(self.best_t, t));
         self.partner = (w & keep) | (self.partner & !keep);
-        self.best_t = self.best_t.min(t);
+        self.best_t = least(self.best_t, t);
     }
 
     /// The earliest event's time so far.
@@ -562,6 +564,26 @@ impl<'a> Nearest<'a> {
     pub(super) fn settle(mut self) -> (f64, u32, f64, u32) {
         self.roots();
         (self.best_t, self.partner, self.second_t, self.second)
+    }
+}
+
+/// The lesser of two times that are not NaN (either if equal: they are the same time).
+#[inline(always)]
+fn least(a: f64, b: f64) -> f64 {
+    if a < b {
+        a
+    } else {
+        b
+    }
+}
+
+/// The greater of two times that are not NaN.
+#[inline(always)]
+fn greatest(a: f64, b: f64) -> f64 {
+    if a > b {
+        a
+    } else {
+        b
     }
 }
 
