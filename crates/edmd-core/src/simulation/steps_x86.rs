@@ -188,8 +188,8 @@ fn lanes(
 /// Pushes `j` onto `out` for every sphere `j` other than `i` filed in the cells around
 /// `c` whose list centre is nearer `p` than the lists' radius: the spheres of `i`'s list made
 /// at `p` (`for_each_listed` in `steps.rs`, in another order). The centres are read from the
-/// cells ([`super::centres`]) four at a time, and their distances worked out on four lanes in
-/// the scalar's operations (`Steps::nearest_image`, `Vector::norm2`), so that the same
+/// cells ([`super::centres`]), a cell's eight slots at a time, and their distances worked out
+/// on four lanes in the scalar's operations (`Steps::nearest_image`, `Vector::norm2`), so that the same
 /// spheres are found; those beyond a cell's slots one by one.
 ///
 /// # Safety
@@ -318,7 +318,7 @@ fn slot_of(cell: &Cell, i: u32) -> u32 {
 }
 
 /// Which of the four centres from slot `g` of `cell` are nearer `p` than `sqrt(limit)`, as a
-/// bit mask: the displacement, plus the cell's `shift` to its image around `p` (`-0.0`, or a
+/// bit mask (`p`, `shift` and `limit` each broadcast to the four lanes): the displacement, plus the cell's `shift` to its image around `p` (`-0.0`, or a
 /// box length across a periodic side), then `norm2` summed from the first square (the
 /// scalar one starts from `0.0`, and `0.0 + x` is `x` for a square). For a centre within the
 /// lists' radius the shift is `Steps::nearest_image`'s choice, in the same operation (`d - l`
