@@ -189,8 +189,8 @@ fn lanes(
 /// `c` whose list centre is nearer `p` than the lists' radius: the spheres of `i`'s list made
 /// at `p` (`for_each_listed` in `steps.rs`, in another order). The centres are read from the
 /// cells ([`super::centres`]), a cell's eight slots at a time, and their distances worked out
-/// on four lanes in the scalar's operations (`Steps::nearest_image`, `Vector::norm2`), so that the same
-/// spheres are found; those beyond a cell's slots one by one.
+/// on four lanes in the scalar's operations (`Steps::nearest_image`, `Vector::norm2`), so
+/// that the same spheres are found; those beyond a cell's slots one by one.
 ///
 /// # Safety
 /// The processor must have AVX2 (the x86-64-v3 loop's features).
@@ -318,12 +318,13 @@ fn slot_of(cell: &Cell, i: u32) -> u32 {
 }
 
 /// Which of the four centres from slot `g` of `cell` are nearer `p` than `sqrt(limit)`, as a
-/// bit mask (`p`, `shift` and `limit` each broadcast to the four lanes): the displacement, plus the cell's `shift` to its image around `p` (`-0.0`, or a
-/// box length across a periodic side), then `norm2` summed from the first square (the
-/// scalar one starts from `0.0`, and `0.0 + x` is `x` for a square). For a centre within the
-/// lists' radius the shift is `Steps::nearest_image`'s choice, in the same operation (`d - l`
-/// is `d + (-l)`, and `d + (-0.0)` is `d`), so the same spheres are found; the image of one
-/// beyond it may differ, but it is beyond it either way (the cells are a list radius wide).
+/// bit mask (`p`, `shift` and `limit` each broadcast to the four lanes): the displacement,
+/// plus the cell's `shift` to its image around `p` (`-0.0`, or a box length across a
+/// periodic side), then `norm2` summed from the first square (the scalar one starts from
+/// `0.0`, and `0.0 + x` is `x` for a square). For a centre within the lists' radius the shift
+/// is `Steps::nearest_image`'s choice, in the same operation (`d - l` is `d + (-l)`, and
+/// `d + (-0.0)` is `d`), so the same spheres are found; the image of one beyond it may differ,
+/// but it is beyond it either way (the cells are a list radius wide).
 #[target_feature(enable = "avx,avx2,fma,bmi1,bmi2,lzcnt,popcnt,movbe")]
 #[inline]
 fn within(cell: &Cell, g: usize, shift: [__m256d; 3], p: [__m256d; 3], limit: __m256d) -> u32 {
