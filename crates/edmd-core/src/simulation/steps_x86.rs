@@ -238,10 +238,12 @@ pub(super) unsafe fn listed<const D: usize>(
             // off: a loop over the slots it holds mispredicted its end at nearly every cell.
             let len = cell.len as usize;
             let shift = shift.0.map(|x| _mm256_set1_pd(x));
+            // SAFETY: eight `u32`s.
+            let ids = unsafe { _mm256_loadu_si256(cell.id.as_ptr().cast()) };
             let hits = (within(cell, 0, shift, at, under) | within(cell, 4, shift, at, under) << 4)
                 & ((1u32 << len) - 1)
-                & !slot_of(cell, i as u32);
-            push_hits(out, &cell.id, hits);
+                & !slot_of(ids, i as u32);
+            push_hits(out, ids, hits);
             for &j in &cell.more {
                 let ju = j as usize;
                 if ju != i && steps.nearest_image(centre[ju] - p).norm2() < limit {
@@ -276,20 +278,19 @@ const GATHER: [[u8; 16]; 16] = {
     table
 };
 
-/// Appends to `out` the ids of the slots whose bits are set in `hits` (eight bits), in order
-/// of slot, without a branch on the mask: each half's ids gathered to the front and stored
-/// whole, the next store starting past those kept.
+/// Appends to `out` those of a cell's eight slot ids `ids` whose bits are set in `hits`, in
+/// order of slot, without a branch on the mask: each half's ids gathered to the front and
+/// stored whole, the next store starting past those kept.
 #[target_feature(enable = "avx,avx2,fma,bmi1,bmi2,lzcnt,popcnt,movbe")]
 #[inline]
-fn push_hits(out: &mut Vec<u32>, id: &[u32; SLOTS], hits: u32) {
+fn push_hits(out: &mut Vec<u32>, ids: __m256i, hits: u32) {
     const { assert!(SLOTS == 8) };
     out.reserve(SLOTS);
     let len = out.len();
     let (low, high) = ((hits & 15) as usize, (hits >> 4 & 15) as usize);
-    // SAFETY: eight `u32`s read from `id`; the two 16-byte stores end at most eight `u32`s
-    // past `len`, within the capacity just reserved, and only the ones kept are counted.
+    // SAFETY: the two 16-byte stores end at most eight `u32`s past `len`, within the
+    // capacity just reserved, and only the ones kept are counted.
     unsafe {
-        let ids = _mm256_loadu_si256(id.as_ptr().cast());
         let to = out.as_mut_ptr().add(len);
         let first = _mm_shuffle_epi8(
             _mm256_castsi256_si128(ids),
@@ -306,13 +307,11 @@ fn push_hits(out: &mut Vec<u32>, id: &[u32; SLOTS], hits: u32) {
     }
 }
 
-/// The slots of `cell` that hold sphere `i`, as a bit mask (the sphere is not its own
-/// neighbour).
+/// Which of a cell's eight slot ids `ids` are sphere `i`, as a bit mask (the sphere is not
+/// its own neighbour).
 #[target_feature(enable = "avx,avx2,fma,bmi1,bmi2,lzcnt,popcnt,movbe")]
 #[inline]
-fn slot_of(cell: &Cell, i: u32) -> u32 {
-    // SAFETY: eight `u32`s.
-    let ids = unsafe { _mm256_loadu_si256(cell.id.as_ptr().cast()) };
+fn slot_of(ids: __m256i, i: u32) -> u32 {
     let same = _mm256_cmpeq_epi32(ids, _mm256_set1_epi32(i as i32));
     _mm256_movemask_ps(_mm256_castsi256_ps(same)) as u32
 }
@@ -352,8 +351,8 @@ mod tests {
         let id: [u32; SLOTS] = [10, 11, 12, 13, 14, 15, 16, 17];
         for hits in 0..256u32 {
             let mut out = vec![7];
-            // SAFETY: the processor has AVX2 (checked above).
-            unsafe { push_hits(&mut out, &id, hits) };
+            // SAFETY: the processor has AVX2 (checked above); eight `u32`s.
+            unsafe { push_hits(&mut out, _mm256_loadu_si256(id.as_ptr().cast()), hits) };
             let want: Vec<u32> = std::iter::once(7)
                 .chain((0..SLOTS).filter(|&s| hits >> s & 1 == 1).map(|s| id[s]))
                 .collect();
